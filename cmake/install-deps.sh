@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs the Debian packages mccd needs, only when one is missing (apt-get needs root).
+set -euo pipefail
+pkgs=(cmake g++ make libtbb-dev libeigen3-dev libgtest-dev libgmp-dev nlohmann-json3-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+fi
