@@ -64,35 +64,32 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
     return x.hi != y.hi ? x.hi < y.hi : (x.lo != y.lo ? x.lo < y.lo : x.face < y.face);
   });
+  // Half-edges of one edge are adjacent after the sort, ordered by face: the CSR of edge
+  // faces falls out directly.
   face_edges_.assign(nf, {0, 0, 0});
+  edge_faces_.reserve(half.size());
   for (std::size_t i = 0; i < half.size(); ++i) {
     if (i == 0 || half[i].hi != half[i - 1].hi || half[i].lo != half[i - 1].lo) {
       edges_.push_back({half[i].lo, half[i].hi});
-      edge_face_count_.push_back(0);
+      edge_face_offsets_.push_back(static_cast<std::uint32_t>(i));
     }
     const auto e = static_cast<std::uint32_t>(edges_.size() - 1);
-    ++edge_face_count_[e];
+    edge_faces_.push_back(half[i].face);
     face_edges_[half[i].face][half[i].corner] = e;
   }
-}
-
-std::vector<std::uint32_t> MeshTopology::edge_faces(std::size_t e) const {
-  std::vector<std::uint32_t> out;
-  const Edge& ed = edges_[e];
-  for (auto* p = vertex_faces_begin(ed[0]); p != vertex_faces_end(ed[0]); ++p) {
-    const auto& fe = face_edges_[*p];
-    if (fe[0] == e || fe[1] == e || fe[2] == e) out.push_back(*p);
-  }
-  return out;
+  edge_face_offsets_.push_back(static_cast<std::uint32_t>(half.size()));
 }
 
 std::size_t MeshTopology::num_boundary_edges() const {
-  return static_cast<std::size_t>(std::count(edge_face_count_.begin(), edge_face_count_.end(), 1u));
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges_.size(); ++e) n += edge_face_count(e) == 1;
+  return n;
 }
 
 std::size_t MeshTopology::num_nonmanifold_edges() const {
-  return static_cast<std::size_t>(
-      std::count_if(edge_face_count_.begin(), edge_face_count_.end(), [](std::uint32_t c) { return c > 2; }));
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges_.size(); ++e) n += edge_face_count(e) > 2;
+  return n;
 }
 
 std::int64_t MeshTopology::find_edge(std::uint32_t a, std::uint32_t b) const {

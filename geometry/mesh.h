@@ -67,9 +67,13 @@ class MeshTopology {
   std::size_t vertex_face_count(std::size_t v) const { return vertex_face_offsets_[v + 1] - vertex_face_offsets_[v]; }
 
   /// Number of faces around edge e (1: boundary, 2: interior, more: non-manifold).
-  std::uint32_t edge_face_count(std::size_t e) const { return edge_face_count_[e]; }
+  std::uint32_t edge_face_count(std::size_t e) const { return edge_face_offsets_[e + 1] - edge_face_offsets_[e]; }
   /// Faces incident to edge e, ascending.
-  std::vector<std::uint32_t> edge_faces(std::size_t e) const;
+  std::vector<std::uint32_t> edge_faces(std::size_t e) const {
+    return {edge_faces_begin(e), edge_faces_end(e)};
+  }
+  const std::uint32_t* edge_faces_begin(std::size_t e) const { return edge_faces_.data() + edge_face_offsets_[e]; }
+  const std::uint32_t* edge_faces_end(std::size_t e) const { return edge_faces_.data() + edge_face_offsets_[e + 1]; }
 
   /// Whether two faces share at least one vertex (a face is adjacent to itself).
   bool adjacent(std::size_t f, std::size_t g) const {
@@ -90,7 +94,8 @@ class MeshTopology {
   std::vector<Triangle> faces_;
   std::vector<Edge> edges_;
   std::vector<std::array<std::uint32_t, 3>> face_edges_;
-  std::vector<std::uint32_t> edge_face_count_;
+  std::vector<std::uint32_t> edge_face_offsets_;  // CSR: faces of edge e, ascending
+  std::vector<std::uint32_t> edge_faces_;
   std::vector<std::uint32_t> vertex_face_offsets_;
   std::vector<std::uint32_t> vertex_faces_;
 };

@@ -1,0 +1,326 @@
+#pragma once
+/// @file The per-step machinery behind Scene, templated on the bounding volume: vertex
+/// volumes, BVH refit, the three methods (brute force, traversal from the root, front
+/// tracking), leaf-pair processing with representative features, and orphan tests.
+///
+/// Consistency invariant that makes all methods return identical contacts: every feature
+/// pair reaches the elementary test only after the overlap test of its *feature volumes*
+/// (merges of the same per-vertex swept volumes that build the triangle and node volumes).
+/// A feature volume is contained in the volume of every triangle around the feature and of
+/// every BVH node above it, so whenever the feature test passes, every carrier pair and all
+/// its ancestors overlap and every method reaches the pair.
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "core/bvh.h"
+#include "core/contact.h"
+#include "core/features.h"
+#include "geometry/ccd.h"
+#include "geometry/kdop.h"
+
+namespace mccd::detail {
+
+/// A BVTT pair node: two BVH node ids, a < b (a == b would be a self node).
+struct NodePair {
+  std::uint32_t a, b;  ///< 8 bytes
+  friend bool operator<(const NodePair& x, const NodePair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; }
+};
+static_assert(sizeof(NodePair) == 8);
+
+/// A contact as found, with global ids (VF: vertex, face; EE: edge a < edge b).
+struct RawContact {
+  std::uint32_t a, b;
+  ContactKind kind;
+  double toi;
+};
+
+/// Counters of one worker (one block of the front, or one serial pass).
+struct Counters {
+  std::uint64_t volume_tests = 0, feature_box_tests = 0, vf_tests = 0, ee_tests = 0, leaf_pairs = 0,
+                sprouted = 0, invalidated = 0, orphan_vf = 0, orphan_ee = 0;
+  void add(const Counters& o) {
+    volume_tests += o.volume_tests;
+    feature_box_tests += o.feature_box_tests;
+    vf_tests += o.vf_tests;
+    ee_tests += o.ee_tests;
+    leaf_pairs += o.leaf_pairs;
+    sprouted += o.sprouted;
+    invalidated += o.invalidated;
+    orphan_vf += o.orphan_vf;
+    orphan_ee += o.orphan_ee;
+  }
+};
+
+/// Output of one unit of work: its part of the next front, its contacts, its counters, and
+/// its traversal stack (kept to reuse the allocation).
+struct WorkerOutput {
+  std::vector<NodePair> front;
+  std::vector<RawContact> contacts;
+  std::vector<NodePair> stack;
+  Counters counters;
+  void clear() {
+    front.clear();
+    contacts.clear();
+    stack.clear();
+    counters = {};
+  }
+};
+
+/// The static data of a scene, independent of the volume type.
+struct SceneGeometry {
+  MeshTopology topo;
+  FeaturePairs features;
+  const Positions* x0 = nullptr;  ///< start positions of the step (global vertex ids)
+  const Positions* x1 = nullptr;  ///< end positions
+  CcdOptions ccd;
+};
+
+template <class BV>
+class Engine {
+ public:
+  Engine(SceneGeometry& g, const std::vector<Vec3>& centroids) : g_(g), bvh_(centroids) {
+    volumes_.resize(bvh_.size());
+    vertex_volumes_.resize(g_.topo.num_vertices());
+  }
+
+  const BvhTopology& bvh() const { return bvh_; }
+
+  /// Stage 1 (second half): per-vertex swept volumes of the current step.
+  void update_vertex_volumes() {
+    const Positions& x0 = *g_.x0;
+    const Positions& x1 = *g_.x1;
+    for (std::size_t v = 0; v < vertex_volumes_.size(); ++v) {
+      BV d = BV::empty();
+      d.add_point(x0.row(static_cast<Eigen::Index>(v)).transpose());
+      d.add_point(x1.row(static_cast<Eigen::Index>(v)).transpose());
+      if (g_.ccd.min_distance > 0) d.inflate(g_.ccd.min_distance);
+      vertex_volumes_[v] = d;
+    }
+  }
+
+  /// Stage 2: refit every node volume bottom-up.
+  void refit() {
+    if (bvh_.size() == 0) return;
+    refit_range(bvh_, volumes_, 0, static_cast<std::uint32_t>(bvh_.size()),
+                [this](std::uint32_t t) { return triangle_volume(t); });
+  }
+
+  BV triangle_volume(std::uint32_t t) const {
+    const Triangle& f = g_.topo.faces()[t];
+    BV d = BV::merged(vertex_volumes_[f[0]], vertex_volumes_[f[1]]);
+    d.merge(vertex_volumes_[f[2]]);
+    return d;
+  }
+  BV edge_volume(std::uint32_t e) const {
+    const Edge& ed = g_.topo.edges()[e];
+    return BV::merged(vertex_volumes_[ed[0]], vertex_volumes_[ed[1]]);
+  }
+
+  // ---- elementary tests behind the feature-volume test ----
+  void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
+    ++out.counters.feature_box_tests;
+    if (!vertex_volumes_[v].overlaps(volumes_[bvh_.leaf_of(f)])) return;
+    ++out.counters.vf_tests;
+    const Triangle& t = g_.topo.faces()[f];
+    CcdPoints p;
+    const std::uint32_t ids[4] = {v, t[0], t[1], t[2]};
+    load(ids, p);
+    double toi = 0;
+    if (vertex_face_ccd(p, toi, g_.ccd)) out.contacts.push_back({v, f, ContactKind::VertexFace, toi});
+  }
+  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+    if (a > b) std::swap(a, b);
+    ++out.counters.feature_box_tests;
+    if (!edge_volume(a).overlaps(edge_volume(b))) return;
+    ++out.counters.ee_tests;
+    const Edge& ea = g_.topo.edges()[a];
+    const Edge& eb = g_.topo.edges()[b];
+    CcdPoints p;
+    const std::uint32_t ids[4] = {ea[0], ea[1], eb[0], eb[1]};
+    load(ids, p);
+    double toi = 0;
+    if (edge_edge_ccd(p, toi, g_.ccd)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
+  }
+
+  /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).
+  void process_leaf_pair(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
+    ++out.counters.leaf_pairs;
+    const Triangle& S = g_.topo.faces()[s];
+    const Triangle& T = g_.topo.faces()[t];
+    for (auto v : S)
+      if (g_.features.carries_vf(v, s, t)) test_vf(v, t, out);
+    for (auto v : T)
+      if (g_.features.carries_vf(v, t, s)) test_vf(v, s, out);
+    const auto& es = g_.topo.face_edges(s);
+    const auto& et = g_.topo.face_edges(t);
+    for (auto a : es)
+      for (auto b : et)
+        if (g_.features.carries_ee(a, s, b, t)) test_ee(a, b, out);
+  }
+
+  /// Depth-first BVTT traversal of everything on out.stack. With `record`, the pair nodes
+  /// where it stops (disjoint pairs, non-adjacent leaf pairs) are appended to out.front.
+  /// Adjacent leaf pairs stop without a volume test: their features are the orphan set's.
+  template <bool record>
+  void traverse(WorkerOutput& out) const {
+    auto& st = out.stack;
+    while (!st.empty()) {
+      const NodePair n = st.back();
+      st.pop_back();
+      if (n.a == n.b) {  // self node: three children, no test
+        if (bvh_.leaf(n.a)) continue;
+        const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
+        st.push_back({l, r});
+        st.push_back({r, r});
+        st.push_back({l, l});
+        continue;
+      }
+      const bool la = bvh_.leaf(n.a), lb = bvh_.leaf(n.b);
+      if (la && lb) {
+        const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
+        if (g_.topo.adjacent(s, t)) continue;
+        if constexpr (record) out.front.push_back(n);
+        ++out.counters.volume_tests;
+        if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaf_pair(s, t, out);
+        continue;
+      }
+      ++out.counters.volume_tests;
+      if (!volumes_[n.a].overlaps(volumes_[n.b])) {
+        if constexpr (record) out.front.push_back(n);
+        continue;
+      }
+      push_children(n, st);
+    }
+  }
+
+  /// Children of an inner pair node: split the non-leaf, or the larger, of the two.
+  void push_children(const NodePair& n, std::vector<NodePair>& st) const {
+    const bool split_b = bvh_.leaf(n.a) || (!bvh_.leaf(n.b) && bvh_.subtree_size(n.b) > bvh_.subtree_size(n.a));
+    if (split_b) {
+      st.push_back({n.a, bvh_.right(n.b)});
+      st.push_back({n.a, bvh_.left(n.b)});
+    } else {
+      st.push_back({bvh_.right(n.a), n.b});
+      st.push_back({bvh_.left(n.a), n.b});
+    }
+  }
+
+  /// Traversal from the root (the `traverse` method; with `record`, the front build of
+  /// paper algorithms 3-4).
+  template <bool record>
+  void from_root(WorkerOutput& out) const {
+    if (bvh_.size() == 0) return;
+    out.stack.push_back({0, 0});
+    traverse<record>(out);
+  }
+
+  /// Front tracking of nodes [begin, end) (paper section 4.3-4.4): a disjoint node stays; an
+  /// overlapping leaf pair is processed and stays; an overlapping inner node is replaced by
+  /// the stops of its subtree (sprouting, no pruning).
+  void track(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
+    for (const NodePair* it = begin; it != end; ++it) {
+      const NodePair n = *it;
+      ++out.counters.volume_tests;
+      const bool ov = volumes_[n.a].overlaps(volumes_[n.b]);
+      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+        if (ov) process_leaf_pair(bvh_.triangle(n.a), bvh_.triangle(n.b), out);
+        out.front.push_back(n);
+      } else if (!ov) {
+        out.front.push_back(n);
+      } else {
+        ++out.counters.invalidated;
+        const std::size_t before = out.front.size();
+        push_children(n, out.stack);
+        traverse<true>(out);
+        out.counters.sprouted += out.front.size() - before;
+      }
+    }
+  }
+
+  /// Orphan pairs [begin, end) of one kind.
+  void orphans_vf(const std::pair<std::uint32_t, std::uint32_t>* begin,
+                  const std::pair<std::uint32_t, std::uint32_t>* end, WorkerOutput& out) const {
+    for (auto* p = begin; p != end; ++p) {
+      const std::size_t before = out.counters.vf_tests;
+      test_vf(p->first, p->second, out);
+      out.counters.orphan_vf += out.counters.vf_tests - before;
+    }
+  }
+  void orphans_ee(const std::pair<std::uint32_t, std::uint32_t>* begin,
+                  const std::pair<std::uint32_t, std::uint32_t>* end, WorkerOutput& out) const {
+    for (auto* p = begin; p != end; ++p) {
+      const std::size_t before = out.counters.ee_tests;
+      test_ee(p->first, p->second, out);
+      out.counters.orphan_ee += out.counters.ee_tests - before;
+    }
+  }
+
+  /// Brute force: every VF pair (v not a corner of f) and every EE pair sharing no vertex,
+  /// found by sweep and prune on slab 0 of the feature volumes, then the same feature
+  /// volume test and elementary tests as the other methods.
+  void brute_force(WorkerOutput& out) const {
+    const auto& topo = g_.topo;
+    // VF: faces sorted by lower bound; vertices scanned against the faces whose slab-0
+    // interval can reach them.
+    std::vector<std::pair<double, std::uint32_t>> faces(topo.num_faces());
+    double max_face_extent = 0;  // the widest face along slab 0
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      const BV& vf = volumes_[bvh_.leaf_of(f)];
+      faces[f] = {vf.lo[0], f};
+      max_face_extent = std::max(max_face_extent, double(vf.hi[0]) - double(vf.lo[0]));
+    }
+    std::sort(faces.begin(), faces.end());
+    for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
+      if (topo.vertex_face_count(v) == 0) continue;
+      const BV& vv = vertex_volumes_[v];
+      // A face reaching the vertex has lo <= vv.hi and lo >= vv.lo - extent; the margin only
+      // widens the scan (the full volume test decides).
+      const double key = double(vv.lo[0]) - max_face_extent * (1 + 1e-6) - 1e-30;
+      auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, 0u));
+      for (; it != faces.end() && it->first <= double(vv.hi[0]); ++it) {
+        const std::uint32_t f = it->second;
+        const Triangle& t = topo.faces()[f];
+        if (t[0] == v || t[1] == v || t[2] == v) continue;
+        ++out.counters.volume_tests;
+        if (!vv.overlaps(volumes_[bvh_.leaf_of(f)])) continue;
+        test_vf(v, f, out);
+      }
+    }
+    // EE: classic sweep over edges sorted by lower bound.
+    std::vector<std::pair<float, std::uint32_t>> edges(topo.num_edges());
+    std::vector<BV> ev(topo.num_edges());
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+      ev[e] = edge_volume(e);
+      edges[e] = {ev[e].lo[0], e};
+    }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const std::uint32_t a = edges[i].second;
+      const Edge& ea = topo.edges()[a];
+      for (std::size_t j = i + 1; j < edges.size() && edges[j].first <= ev[a].hi[0]; ++j) {
+        const std::uint32_t b = edges[j].second;
+        const Edge& eb = topo.edges()[b];
+        if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+        ++out.counters.volume_tests;
+        if (!ev[a].overlaps(ev[b])) continue;
+        test_ee(a, b, out);
+      }
+    }
+  }
+
+ private:
+  void load(const std::uint32_t (&ids)[4], CcdPoints& p) const {
+    for (int k = 0; k < 4; ++k) {
+      p.start[k] = g_.x0->row(ids[k]).transpose();
+      p.end[k] = g_.x1->row(ids[k]).transpose();
+    }
+  }
+
+  SceneGeometry& g_;
+  BvhTopology bvh_;
+  std::vector<BV> volumes_;         ///< one per BVH node
+  std::vector<BV> vertex_volumes_;  ///< one per vertex: its swept segment
+};
+
+}  // namespace mccd::detail

@@ -1,0 +1,53 @@
+#include "core/features.h"
+
+#include <algorithm>
+
+namespace mccd {
+
+FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
+  const std::size_t nv = topo.num_vertices();
+  std::vector<std::uint32_t> candidates;
+  // VF: an orphan face f is adjacent to every face around v, in particular to the first one
+  // (f0), so it is among the faces around f0's corners.
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (topo.vertex_face_count(v) == 0) continue;
+    const std::uint32_t f0 = *topo.vertex_faces_begin(v);
+    candidates.clear();
+    for (auto w : topo.faces()[f0])
+      candidates.insert(candidates.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (auto f : candidates) {
+      const Triangle& tf = topo.faces()[f];
+      if (tf[0] == v || tf[1] == v || tf[2] == v) continue;
+      bool all_adjacent = true;
+      for (auto* g = topo.vertex_faces_begin(v); g != topo.vertex_faces_end(v) && all_adjacent; ++g)
+        all_adjacent = topo.adjacent(*g, f);
+      if (all_adjacent) orphan_vf_.emplace_back(v, f);
+    }
+  }
+  // EE: every face around b is adjacent to the first face around a, so b is an edge of a
+  // face around one of that face's corners.
+  for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
+    const std::uint32_t f0 = *topo.edge_faces_begin(a);
+    const Edge& ea = topo.edges()[a];
+    candidates.clear();
+    for (auto w : topo.faces()[f0])
+      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
+        for (auto b : topo.face_edges(*g))
+          if (b > a) candidates.push_back(b);
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (auto b : candidates) {
+      const Edge& eb = topo.edges()[b];
+      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      bool all_adjacent = true;
+      for (auto* f = topo.edge_faces_begin(a); f != topo.edge_faces_end(a) && all_adjacent; ++f)
+        for (auto* g = topo.edge_faces_begin(b); g != topo.edge_faces_end(b) && all_adjacent; ++g)
+          all_adjacent = topo.adjacent(*f, *g);
+      if (all_adjacent) orphan_ee_.emplace_back(a, b);
+    }
+  }
+}
+
+}  // namespace mccd

@@ -1,0 +1,59 @@
+#pragma once
+/// @file Feature pairs: which triangle pair carries each vertex-face and edge-edge test
+/// (the canonical representative rule), and the orphan set of the pairs no non-adjacent
+/// triangle pair carries (paper section 4.6, DESIGN "Representative features").
+///
+/// What must be tested in a step: every (v, f) with v not a corner of f, and every pair of
+/// edges that share no vertex. If such a pair collides, the contact point lies in the swept
+/// volume of every triangle around each feature, so every triangle pair around it overlaps.
+///
+/// Canonical rule. A VF pair (v, f) is carried by the non-adjacent triangle pair (s, f) where
+/// s is the first (lowest id) triangle around v not adjacent to f. An EE pair (a, b), a < b,
+/// is carried by the lexicographically first (s, t) in faces(a) x faces(b) with s not
+/// adjacent to t. Each feature pair thus has at most one carrier; the pairs with none (every
+/// candidate triangle pair is adjacent) form the orphan set, computed once from connectivity.
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "geometry/mesh.h"
+
+namespace mccd {
+
+class FeaturePairs {
+ public:
+  FeaturePairs() = default;
+  explicit FeaturePairs(const MeshTopology& topo);
+
+  /// Whether the leaf pair (s, t) (non-adjacent) carries the VF pair (v, t), v a corner of s.
+  bool carries_vf(std::uint32_t v, std::uint32_t s, std::uint32_t t) const {
+    for (auto* f = topo_->vertex_faces_begin(v); f != topo_->vertex_faces_end(v); ++f)
+      if (!topo_->adjacent(*f, t)) return *f == s;
+    return false;
+  }
+
+  /// Whether the non-adjacent leaf pair (s, t) carries the EE pair (a, b), a an edge of s and
+  /// b an edge of t.
+  bool carries_ee(std::uint32_t a, std::uint32_t s, std::uint32_t b, std::uint32_t t) const {
+    if (a > b) {
+      std::swap(a, b);
+      std::swap(s, t);
+    }
+    for (auto* f = topo_->edge_faces_begin(a); f != topo_->edge_faces_end(a); ++f)
+      for (auto* g = topo_->edge_faces_begin(b); g != topo_->edge_faces_end(b); ++g)
+        if (!topo_->adjacent(*f, *g)) return *f == s && *g == t;
+    return false;
+  }
+
+  /// Orphan VF pairs (vertex, face), sorted.
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& orphan_vf() const { return orphan_vf_; }
+  /// Orphan EE pairs (edge a, edge b), a < b, sorted.
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& orphan_ee() const { return orphan_ee_; }
+
+ private:
+  const MeshTopology* topo_ = nullptr;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_vf_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_ee_;
+};
+
+}  // namespace mccd

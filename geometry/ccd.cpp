@@ -1,0 +1,532 @@
+// Elementary CCD tests (vertex-face, edge-edge) under linear motion; see ccd.h for the
+// contract and the error analysis in the comments below.
+//
+// Notation: u = 2^-53 (unit roundoff). Every floating-point operation on doubles rounds to
+// nearest, so a computed value of an expression made of +, -, * of exact inputs, with at
+// most k roundings along any path, differs from the exact value by at most gamma_k * M,
+// where M is the same expression evaluated on absolute values and gamma_k = k u / (1 - k u).
+// We bound M from the largest absolute coordinate of each difference vector, and add an
+// absolute term kTiny that covers underflow (coordinates are kept in [2^-60, 2^60] by an
+// exact power-of-two scaling, so no product can overflow and underflow errors are far
+// below kTiny).
+#include "geometry/ccd.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#ifdef MCCD_CCD_TRACE
+#include <cstdio>
+#endif
+
+#include "geometry/ccd_detail.h"
+
+namespace mccd {
+namespace detail {
+namespace {
+
+constexpr double kU = 0x1p-53;
+constexpr double kTiny = 0x1p-800;
+// Cheap error bound of the coplanarity cubic (stage b): at most 9 roundings, magnitude
+// <= 6 alpha beta gamma; gamma_9 * 6 < 60 u, taken as 96 u.
+constexpr double kCubicErr = 96 * kU;
+
+struct V {
+  double x, y, z;
+};
+inline V operator-(V a, V b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V operator+(V a, V b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V operator*(V a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+inline V cross(V a, V b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline double dot(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double absdot(V a, V b) {
+  return std::fabs(a.x) * std::fabs(b.x) + std::fabs(a.y) * std::fabs(b.y) + std::fabs(a.z) * std::fabs(b.z);
+}
+inline double amax(V a) { return std::max(std::fabs(a.x), std::max(std::fabs(a.y), std::fabs(a.z))); }
+inline V lerp(V a, V b, double t) { return a + (b - a) * t; }
+inline V from(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// A polynomial of degree N in Bernstein form over the current time piece.
+template <int N>
+struct Bern {
+  double c[N + 1];
+};
+
+template <int N>
+inline double maxabs(const Bern<N>& p) {
+  double m = 0;
+  for (int k = 0; k <= N; ++k) m = std::max(m, std::fabs(p.c[k]));
+  return m;
+}
+
+// +1: every coefficient > thr (the polynomial is > 0 on the piece); -1: every one < -thr;
+// 0: undecided. NaN never decides.
+template <int N>
+inline int definite_sign(const Bern<N>& p, double thr) {
+  bool pos = true, neg = true;
+  for (int k = 0; k <= N; ++k) {
+    pos = pos && p.c[k] > thr;
+    neg = neg && p.c[k] < -thr;
+  }
+  return pos ? 1 : (neg ? -1 : 0);
+}
+
+// de Casteljau at 1/2. Each average (x + y) * 0.5 rounds once (the halving is exact, barring
+// underflow, covered by kTiny); N levels, every intermediate bounded by max |c|, so the
+// error bound grows by N u max|c| (taken twice to cover the rounding of the bound itself).
+template <int N>
+inline double split_half(const Bern<N>& p, double err, Bern<N>& l, Bern<N>& r) {
+  double t[N + 1];
+  for (int k = 0; k <= N; ++k) t[k] = p.c[k];
+  l.c[0] = t[0];
+  r.c[N] = t[N];
+  for (int k = 1; k <= N; ++k) {
+    for (int i = 0; i <= N - k; ++i) t[i] = (t[i] + t[i + 1]) * 0.5;
+    l.c[k] = t[0];
+    r.c[N - k] = t[N - k];
+  }
+  return err + 2 * N * kU * maxabs(p) + kTiny;
+}
+
+// Quadratic vector b0 (1-t)^2 + 2 b1 t (1-t) + b2 t^2 = a(t) x b(t) for linear a, b.
+struct QuadV {
+  V q[3];
+};
+inline QuadV quad_cross(V a0, V a1, V b0, V b1) {
+  return {{cross(a0, b0), (cross(a0, b1) + cross(a1, b0)) * 0.5, cross(a1, b1)}};
+}
+// Quartic n(t) . m(t) for quadratic vectors n, m.
+inline Bern<4> quartic(const QuadV& n, const QuadV& m) {
+  Bern<4> g;
+  g.c[0] = dot(n.q[0], m.q[0]);
+  g.c[1] = (dot(n.q[0], m.q[1]) + dot(n.q[1], m.q[0])) * 0.5;
+  g.c[2] = (dot(n.q[0], m.q[2]) + 4.0 * dot(n.q[1], m.q[1]) + dot(n.q[2], m.q[0])) / 6.0;
+  g.c[3] = (dot(n.q[1], m.q[2]) + dot(n.q[2], m.q[1])) * 0.5;
+  g.c[4] = dot(n.q[2], m.q[2]);
+  return g;
+}
+// Cubic a(t) . q(t) for linear a and quadratic q = (q0, q1, q2); `q1x2` = 2 q1.
+inline Bern<3> cubic(V a0, V a1, V q0, V q1x2, V q2) {
+  Bern<3> f;
+  f.c[0] = dot(a0, q0);
+  f.c[1] = (dot(a0, q1x2) + dot(a1, q0)) / 3.0;
+  f.c[2] = (dot(a0, q2) + dot(a1, q1x2)) / 3.0;
+  f.c[3] = dot(a1, q2);
+  return f;
+}
+
+// The query after loading: points at t = 0 (s) and t = 1 (e), scaled by a power of two so
+// that the largest coordinate lies in [2^-60, 2^60]; `d` the scaled minimum distance.
+struct Setup {
+  CcdKind kind;
+  V s[4], e[4];
+  double d = 0;
+  // Stage (b)
+  V X00, X01, X10, X11;  // VF: B x C pieces; EE: da x db pieces
+  V A0, A1, B0, B1, C0, C1;  // VF: a-p, b-p, c-p; EE: da, db, w
+  double alpha = 0, beta = 0, gamma = 0;
+  Bern<3> f;
+  double ef = 0;   // error bound of f
+  double dN = 0;   // d * (bound on |n(t)| or |e(t)|)
+};
+
+enum class Load { Ok, AllZero, Unsafe };
+
+Load load(const CcdPoints& p, double min_distance, Setup& S) {
+  double mx = 0;
+  for (int i = 0; i < 4; ++i) {
+    S.s[i] = from(p.start[i]);
+    S.e[i] = from(p.end[i]);
+    mx = std::max(mx, std::max(amax(S.s[i]), amax(S.e[i])));
+  }
+  S.d = min_distance;
+  if (mx <= 0x1p60 && mx >= 0x1p-60) return Load::Ok;
+  if (mx == 0) return Load::AllZero;
+  if (!std::isfinite(mx)) return Load::Unsafe;
+  // Exact power-of-two scaling (every scaled coordinate stays a normal number or zero).
+  const int ex = std::ilogb(mx);
+  auto scale = [&](double& x) {
+    x = std::ldexp(x, -ex);
+    return x == 0 || std::fabs(x) >= DBL_MIN;
+  };
+  bool exact = true;
+  for (int i = 0; i < 4; ++i)
+    for (V* v : {&S.s[i], &S.e[i]}) exact = scale(v->x) && scale(v->y) && scale(v->z) && exact;
+  if (!exact) return Load::Unsafe;
+  if (min_distance > 0) S.d = std::nextafter(std::ldexp(min_distance, -ex), HUGE_VAL);
+  return Load::Ok;
+}
+
+// Stage (b): the coplanarity cubic in Bernstein form with its error bound.
+//   VF: f(t) = det(a - p, b - p, c - p) (A, B, C), zero iff the four points are coplanar.
+//   EE: f(t) = det(da, db, w), da = a1 - a0, db = b1 - b0, w = b0 - a0.
+// Error: 6 products of three differences per determinant, at most 9 roundings: |err| <=
+// gamma_9 * 6 alpha beta gamma < kCubicErr alpha beta gamma (alpha, beta, gamma: largest
+// absolute coordinate of the three difference vectors at t = 0 and 1).
+void coplanarity(Setup& S) {
+  if (S.kind == CcdKind::VertexFace) {
+    S.A0 = S.s[1] - S.s[0], S.A1 = S.e[1] - S.e[0];
+    S.B0 = S.s[2] - S.s[0], S.B1 = S.e[2] - S.e[0];
+    S.C0 = S.s[3] - S.s[0], S.C1 = S.e[3] - S.e[0];
+    S.X00 = cross(S.B0, S.C0), S.X01 = cross(S.B0, S.C1), S.X10 = cross(S.B1, S.C0), S.X11 = cross(S.B1, S.C1);
+  } else {
+    S.A0 = S.s[1] - S.s[0], S.A1 = S.e[1] - S.e[0];  // da
+    S.B0 = S.s[3] - S.s[2], S.B1 = S.e[3] - S.e[2];  // db
+    S.C0 = S.s[2] - S.s[0], S.C1 = S.e[2] - S.e[0];  // w
+    S.X00 = cross(S.A0, S.B0), S.X01 = cross(S.A0, S.B1), S.X10 = cross(S.A1, S.B0), S.X11 = cross(S.A1, S.B1);
+  }
+  S.alpha = std::max(amax(S.A0), amax(S.A1));
+  S.beta = std::max(amax(S.B0), amax(S.B1));
+  S.gamma = std::max(amax(S.C0), amax(S.C1));
+  const V a0 = S.kind == CcdKind::VertexFace ? S.A0 : S.C0;
+  const V a1 = S.kind == CcdKind::VertexFace ? S.A1 : S.C1;
+  S.f = cubic(a0, a1, S.X00, S.X01 + S.X10, S.X11);
+  S.ef = kCubicErr * (S.alpha * S.beta * S.gamma) + kTiny;
+  S.dN = 0;
+  if (S.d > 0) {
+    // |n(t)| <= |BxC| + |CxA| + |AxB| <= 3 (bg + ga + ab) (VF); |e(t)| <= 3 ab (EE).
+    const double nmax = S.kind == CcdKind::VertexFace
+                            ? 3 * (S.beta * S.gamma + S.gamma * S.alpha + S.alpha * S.beta)
+                            : 3 * S.alpha * S.beta;
+    S.dN = S.d * nmax * (1 + 16 * kU);
+  }
+}
+
+// ---- Stage (c): time pieces -------------------------------------------------------------
+
+// Inside functions g_i: necessary conditions for contact at a time t (all g_i(t) >= 0):
+//   VF (with p the origin, A, B, C the corners): n = BxC + CxA + AxB, g = n.(BxC), n.(CxA),
+//      n.(AxB); at a coplanar time these are u|n|^2, v|n|^2, w|n|^2 with (u, v, w) the
+//      barycentric coordinates of p, so contact implies all >= 0, and all > 0 at a coplanar
+//      time implies contact.
+//   EE: e = da x db; g = (w x db).e, -((b0 - a1) x db).e, (w x da).e, (da x (b1 - a0)).e; if the
+//      segments meet at a0 + s da = b0 + r db these are s|e|^2, (1-s)|e|^2, r|e|^2, (1-r)|e|^2.
+struct Piece {
+  double lo, hi;
+  int depth;
+  Bern<3> f;
+  double ef;
+  Bern<4> g[4];
+  double eg[4];
+};
+
+inline V vabs(V a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+// The magnitude expression of a cross product: the same products, all added.
+inline V across(V a, V b) { return {a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x}; }
+inline QuadV quad_across(V a0, V a1, V b0, V b1) {
+  a0 = vabs(a0), a1 = vabs(a1), b0 = vabs(b0), b1 = vabs(b1);
+  return {{across(a0, b0), (across(a0, b1) + across(a1, b0)) * 0.5, across(a1, b1)}};
+}
+template <int N>
+inline double error_bound(const Bern<N>& magnitude, double k) {
+  return k * kU * maxabs(magnitude) + kTiny;
+}
+
+// Computes the inside functions on [0, 1] and, for every polynomial of stage (c) (the cubic
+// included), an error bound from its magnitude expression: gamma_k times the same expression
+// on absolute values (k roundings at most: 9 for the cubic, 12 for the quartics; we take
+// 16 u and 20 u, which also covers the rounding of the magnitudes themselves).
+int setup_inside(const Setup& S, Piece& P) {
+  QuadV aX;
+  int ng;
+  if (S.kind == CcdKind::VertexFace) {
+    const QuadV X{{S.X00, (S.X01 + S.X10) * 0.5, S.X11}};
+    const QuadV Y = quad_cross(S.C0, S.C1, S.A0, S.A1);
+    const QuadV Z = quad_cross(S.A0, S.A1, S.B0, S.B1);
+    aX = quad_across(S.B0, S.B1, S.C0, S.C1);
+    const QuadV aY = quad_across(S.C0, S.C1, S.A0, S.A1);
+    const QuadV aZ = quad_across(S.A0, S.A1, S.B0, S.B1);
+    QuadV n, an;
+    for (int k = 0; k < 3; ++k) n.q[k] = X.q[k] + Y.q[k] + Z.q[k], an.q[k] = aX.q[k] + aY.q[k] + aZ.q[k];
+    P.g[0] = quartic(n, X);
+    P.g[1] = quartic(n, Y);
+    P.g[2] = quartic(n, Z);
+    P.eg[0] = error_bound(quartic(an, aX), 20);
+    P.eg[1] = error_bound(quartic(an, aY), 20);
+    P.eg[2] = error_bound(quartic(an, aZ), 20);
+    ng = 3;
+  } else {
+    const V da0 = S.A0, da1 = S.A1, db0 = S.B0, db1 = S.B1, w0 = S.C0, w1 = S.C1;
+    const V v0 = S.s[2] - S.s[1], v1 = S.e[2] - S.e[1];  // b0 - a1
+    const V z0 = S.s[3] - S.s[0], z1 = S.e[3] - S.e[0];  // b1 - a0
+    const QuadV e{{S.X00, (S.X01 + S.X10) * 0.5, S.X11}};
+    aX = quad_across(da0, da1, db0, db1);
+    P.g[0] = quartic(e, quad_cross(w0, w1, db0, db1));
+    P.g[1] = quartic(e, quad_cross(v0, v1, db0, db1));
+    for (double& c : P.g[1].c) c = -c;
+    P.g[2] = quartic(e, quad_cross(w0, w1, da0, da1));
+    P.g[3] = quartic(e, quad_cross(da0, da1, z0, z1));
+    P.eg[0] = error_bound(quartic(aX, quad_across(w0, w1, db0, db1)), 20);
+    P.eg[1] = error_bound(quartic(aX, quad_across(v0, v1, db0, db1)), 20);
+    P.eg[2] = error_bound(quartic(aX, quad_across(w0, w1, da0, da1)), 20);
+    P.eg[3] = error_bound(quartic(aX, quad_across(da0, da1, z0, z1)), 20);
+    ng = 4;
+  }
+  // The cubic: a(t) . X(t) with a = A (VF) or w (EE).
+  const V a0 = vabs(S.kind == CcdKind::VertexFace ? S.A0 : S.C0);
+  const V a1 = vabs(S.kind == CcdKind::VertexFace ? S.A1 : S.C1);
+  P.ef = std::min(P.ef, error_bound(cubic(a0, a1, aX.q[0], aX.q[1] * 2.0, aX.q[2]), 16));
+  return ng;
+}
+
+// Closest point to p on segment [a, b] (any point is fine for soundness; NaN-free).
+inline V closest_on_segment(V p, V a, V b) {
+  const V ab = b - a;
+  const double den = dot(ab, ab);
+  if (!(den > 0)) return a;
+  double t = dot(p - a, ab) / den;
+  t = std::clamp(t, 0.0, 1.0);
+  return a + ab * t;
+}
+
+inline double dist2(V a, V b) { return dot(a - b, a - b); }
+
+// A separating direction at time t: from the closest point of the face / edge a to p / edge b.
+V separating_direction(const Setup& S, double t) {
+  V P[4];
+  for (int i = 0; i < 4; ++i) P[i] = lerp(S.s[i], S.e[i], t);
+  if (S.kind == CcdKind::VertexFace) {
+    const V p = P[0], a = P[1], b = P[2], c = P[3];
+    V best = closest_on_segment(p, a, b);
+    double bd = dist2(p, best);
+    for (V q : {closest_on_segment(p, b, c), closest_on_segment(p, c, a)}) {
+      const double dq = dist2(p, q);
+      if (dq < bd) bd = dq, best = q;
+    }
+    const V n = cross(b - a, c - a);
+    const double nn = dot(n, n);
+    if (nn > 0) {
+      const V q = p - n * (dot(p - a, n) / nn);
+      if (dot(n, cross(b - q, c - q)) >= 0 && dot(n, cross(c - q, a - q)) >= 0 && dot(n, cross(a - q, b - q)) >= 0 &&
+          dist2(p, q) < bd)
+        best = q;
+    }
+    return p - best;
+  }
+  // Closest points of segments [a0, a1] and [b0, b1] (clamped; degenerate cases tolerated).
+  const V a0 = P[0], a1 = P[1], b0 = P[2], b1 = P[3];
+  const V d1 = a1 - a0, d2 = b1 - b0, r = a0 - b0;
+  const double A = dot(d1, d1), E = dot(d2, d2), F = dot(d2, r);
+  double s = 0, u = 0;
+  if (!(A > 0) && !(E > 0)) {
+    s = u = 0;
+  } else if (!(A > 0)) {
+    u = std::clamp(F / E, 0.0, 1.0);
+  } else {
+    const double c = dot(d1, r);
+    if (!(E > 0)) {
+      s = std::clamp(-c / A, 0.0, 1.0);
+    } else {
+      const double b = dot(d1, d2), den = A * E - b * b;
+      s = den > 0 ? std::clamp((b * F - c * E) / den, 0.0, 1.0) : 0.0;
+      u = (b * s + F) / E;
+      if (u < 0) {
+        u = 0, s = std::clamp(-c / A, 0.0, 1.0);
+      } else if (u > 1) {
+        u = 1, s = std::clamp((b - c) / A, 0.0, 1.0);
+      }
+    }
+  }
+  return (b0 + d2 * u) - (a0 + d1 * s);
+}
+
+// Separation over [lo, hi] along w: for every pair (x, y) of a corner x of the second and y
+// of the first primitive (VF: x = p, y = corners; EE: x = ends of b, y = ends of a),
+// w.(x(t) - y(t)) > d |w| (or, for every pair, < -d |w|). Each is linear in t:
+// h(t) = (1-t) h0 + t h1 with h0, h1 computed to within 6 u |w|.|diff|; the bound at lo
+// and hi is checked with a 4 u margin for the interpolation.
+bool separated_along(const Setup& S, V w, double lo, double hi) {
+  const double ww = dot(w, w);
+  if (!(ww > 0) || !std::isfinite(ww)) return false;
+  const double margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * kU) : 0.0;
+  bool pos = true, neg = true;
+  auto check = [&](V x0, V x1, V y0, V y1) {
+    const V D0 = x0 - y0, D1 = x1 - y1;
+    const double h0 = dot(w, D0), h1 = dot(w, D1);
+    const double e0 = 6 * kU * absdot(w, D0) + kTiny, e1 = 6 * kU * absdot(w, D1) + kTiny;
+    const double slack = 4 * kU * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + kTiny + margin;
+    if (pos) {
+      const double l0 = h0 - e0, l1 = h1 - e1;
+      pos = l0 + lo * (l1 - l0) > slack && l0 + hi * (l1 - l0) > slack;
+    }
+    if (neg) {
+      const double u0 = h0 + e0, u1 = h1 + e1;
+      neg = u0 + lo * (u1 - u0) < -slack && u0 + hi * (u1 - u0) < -slack;
+    }
+    return pos || neg;
+  };
+  if (S.kind == CcdKind::VertexFace) {
+    for (int j = 1; j < 4; ++j)
+      if (!check(S.s[0], S.e[0], S.s[j], S.e[j])) return false;
+    return true;
+  }
+  for (int j = 2; j < 4; ++j)
+    for (int i = 0; i < 2; ++i)
+      if (!check(S.s[j], S.e[j], S.s[i], S.e[i])) return false;
+  return true;
+}
+
+// Candidate separating directions at the middle of the piece: the closest-point direction,
+// then the separating axes of the two convex primitives (VF: the face normal and its three
+// in-plane edge normals; EE: da x db and its in-plane normals to each edge). Any direction
+// is sound: the test itself is rigorous; good directions only make it succeed.
+bool separated(const Setup& S, double lo, double hi) {
+  const double t = 0.5 * (lo + hi);
+  if (separated_along(S, separating_direction(S, t), lo, hi)) return true;
+  // Relative coordinates (origin at point 0) keep the rounding of the axes relative to u.
+  V R[4];
+  for (int i = 0; i < 4; ++i) R[i] = lerp(S.s[i] - S.s[0], S.e[i] - S.e[0], t);
+  if (S.kind == CcdKind::VertexFace) {
+    const V ab = R[2] - R[1], bc = R[3] - R[2], ca = R[1] - R[3];
+    const V n = cross(ab, R[3] - R[1]);
+    return separated_along(S, n, lo, hi) || separated_along(S, cross(n, ab), lo, hi) ||
+           separated_along(S, cross(n, bc), lo, hi) || separated_along(S, cross(n, ca), lo, hi);
+  }
+  const V da = R[1], db = R[3] - R[2];
+  const V e = cross(da, db);
+  return separated_along(S, e, lo, hi) || separated_along(S, cross(e, da), lo, hi) ||
+         separated_along(S, cross(e, db), lo, hi);
+}
+
+// The earliest point of [lo, hi] where the cubic may vanish, given that it certainly does
+// vanish in [lo, hi] (opposite certain signs at the ends): bisect, keeping the left half
+// unless the cubic is certainly nonzero on it.
+double refine_toi(Bern<3> f, double ef, double lo, double hi, int depth) {
+  while (depth < kCcdToiDepth) {
+    Bern<3> l, r;
+    const double e = split_half(f, ef, l, r);
+    const double mid = 0.5 * (lo + hi);
+    if (definite_sign(l, e) != 0) {
+      f = r;
+      lo = mid;
+    } else {
+      f = l;
+      hi = mid;
+    }
+    ef = e;
+    ++depth;
+  }
+  return lo;
+}
+
+bool search(const Setup& S, double& toi, CcdCounters* counters) {
+  Piece stack[kCcdMaxDepth + 4];
+  int top = 0;
+  Piece& root = stack[top++];
+  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f, root.ef = S.ef;
+  const int ng = setup_inside(S, root);
+  if (definite_sign(root.f, root.ef + S.dN) != 0) return false;  // the tighter bound decides
+  const bool use_inside = !(S.d > 0);
+  int pieces = 0;
+  while (top > 0) {
+    const Piece P = stack[--top];
+    ++pieces;
+#ifdef MCCD_CCD_TRACE
+    std::fprintf(stderr, "piece [%.17g, %.17g] d%d f=(%g %g %g %g) ef=%g\n", P.lo, P.hi, P.depth, P.f.c[0], P.f.c[1], P.f.c[2], P.f.c[3], P.ef);
+    for (int i = 0; i < ng; ++i) std::fprintf(stderr, "   g%d=(%g %g %g %g %g) eg=%g\n", i, P.g[i].c[0], P.g[i].c[1], P.g[i].c[2], P.g[i].c[3], P.g[i].c[4], P.eg[i]);
+#endif
+    if (definite_sign(P.f, P.ef + S.dN) != 0) continue;
+    bool excluded = false, all_positive = true;
+    for (int i = 0; i < ng; ++i) {
+      const int sg = definite_sign(P.g[i], P.eg[i]);
+      if (sg < 0 && use_inside) excluded = true;
+      all_positive = all_positive && sg > 0;
+    }
+    if (excluded) continue;
+    // Certified contact: a sign change of f (a coplanar time in the piece) with every g > 0.
+    const bool s0 = P.f.c[0] > P.ef, n0 = P.f.c[0] < -P.ef, s3 = P.f.c[3] > P.ef, n3 = P.f.c[3] < -P.ef;
+    if (all_positive && ((s0 && n3) || (n0 && s3))) {
+      toi = S.d > 0 ? P.lo : refine_toi(P.f, P.ef, P.lo, P.hi, P.depth);
+      if (counters) ++counters->hits;
+      return true;
+    }
+    if (separated(S, P.lo, P.hi)) continue;
+    if (P.depth >= kCcdMaxDepth || pieces >= kCcdPieceBudget) {
+      // Undecided: report conservatively. Every earlier piece was cleared, so lo is never
+      // later than the first contact.
+      toi = P.lo;
+      if (counters) ++counters->fallbacks, ++counters->hits;
+      return true;
+    }
+    Piece& R = stack[top++];
+    Piece& L = stack[top++];
+    const double mid = 0.5 * (P.lo + P.hi);
+    L.lo = P.lo, L.hi = mid, R.lo = mid, R.hi = P.hi;
+    L.depth = R.depth = P.depth + 1;
+    L.ef = R.ef = split_half(P.f, P.ef, L.f, R.f);
+    for (int i = 0; i < ng; ++i) L.eg[i] = R.eg[i] = split_half(P.g[i], P.eg[i], L.g[i], R.g[i]);
+  }
+  return false;
+}
+
+}  // namespace
+
+bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {
+  const int split = kind == CcdKind::VertexFace ? 1 : 2;
+  // fl(lo2 - hi1) > d (1 + 4u) implies lo2 - hi1 > d; for d = 0 the sign of a rounded
+  // difference is exact.
+  const double d = min_distance > 0 ? min_distance * (1 + 4 * kU) : 0.0;
+  for (int ax = 0; ax < 3; ++ax) {
+    double lo1 = HUGE_VAL, hi1 = -HUGE_VAL, lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
+    for (int i = 0; i < 4; ++i) {
+      const double a = p.start[i][ax], b = p.end[i][ax];
+      const double mn = std::min(a, b), mx = std::max(a, b);
+      if (i < split) {
+        lo1 = std::min(lo1, mn), hi1 = std::max(hi1, mx);
+      } else {
+        lo2 = std::min(lo2, mn), hi2 = std::max(hi2, mx);
+      }
+    }
+    if (lo2 - hi1 > d || lo1 - hi2 > d) return false;
+  }
+  return true;
+}
+
+bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance) {
+  Setup S;
+  S.kind = kind;
+  if (load(p, min_distance, S) != Load::Ok) return true;
+  coplanarity(S);
+  return definite_sign(S.f, S.ef + S.dN) == 0;
+}
+
+bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
+  if (counters) ++counters->queries;
+  const double d = options.min_distance > 0 ? options.min_distance : 0.0;
+  if (!ccd_box_overlap(kind, p, d)) {
+    if (counters) ++counters->box_culled;
+    return false;
+  }
+  Setup S;
+  S.kind = kind;
+  switch (load(p, d, S)) {
+    case Load::Ok:
+      break;
+    case Load::AllZero:  // every point at the origin at both times: touching throughout
+      toi = 0;
+      if (counters) ++counters->hits;
+      return true;
+    case Load::Unsafe:  // non-finite input or a dynamic range beyond 2^1000: conservative
+      toi = 0;
+      if (counters) ++counters->fallbacks, ++counters->hits;
+      return true;
+  }
+  coplanarity(S);
+  if (definite_sign(S.f, S.ef + S.dN) != 0) {
+    if (counters) ++counters->coplanar_culled;
+    return false;
+  }
+  if (counters) ++counters->root_tests;
+  return search(S, toi, counters);
+}
+
+}  // namespace detail
+
+bool vertex_face_ccd(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
+  return detail::ccd_run(detail::CcdKind::VertexFace, p, toi, options, counters);
+}
+
+bool edge_edge_ccd(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
+  return detail::ccd_run(detail::CcdKind::EdgeEdge, p, toi, options, counters);
+}
+
+}  // namespace mccd

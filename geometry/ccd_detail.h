@@ -1,0 +1,26 @@
+#pragma once
+/// @file Internal: the stages of the elementary CCD tests, exposed for the benchmark and the
+/// tests. Not part of the public API; may change without notice.
+#include "geometry/ccd.h"
+
+namespace mccd::detail {
+
+enum class CcdKind { VertexFace, EdgeEdge };
+
+/// Stage (a): the swept boxes of the two primitives (over t in [0, 1]) come within
+/// `min_distance` of each other. False proves that the primitives never do.
+bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance);
+
+/// Stage (b): the Bernstein coplanarity filter. False proves that the four points are never
+/// coplanar (within `min_distance`) on [0, 1], hence no contact. Does not apply stage (a).
+bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance);
+
+/// The whole test (stages a, b, c), as called by vertex_face_ccd / edge_edge_ccd.
+bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters);
+
+/// Tuning constants of stage (c), documented in ccd.h.
+inline constexpr int kCcdMaxDepth = 52;       ///< time pieces narrower than 2^-52 are reported
+inline constexpr int kCcdPieceBudget = 600;   ///< at most this many time pieces per query
+inline constexpr int kCcdToiDepth = 52;       ///< certified contacts: toi refined to 2^-52
+
+}  // namespace mccd::detail

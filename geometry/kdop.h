@@ -1,0 +1,114 @@
+#pragma once
+/// @file Discrete-orientation polytopes (k-DOPs) as small value types, stored as float with
+/// outward rounding so that a volume always contains the double geometry it was built from.
+///
+/// Axes (a point p projects to dot(axis, p)):
+///   | slab | 0 | 1 | 2 |  3  |  4  |  5  |  6  |  7  |  8  |
+///   | axis | x | y | z | x+y | x-y | x+z | x-z | y+z | y-z |
+/// Dop<3> is the axis-aligned box (first three slabs), Dop<9> the 18-DOP.
+#include <cmath>
+#include <limits>
+
+#include "geometry/mesh.h"
+
+namespace mccd {
+
+template <int Slabs>
+struct Dop {
+  static_assert(Slabs == 3 || Slabs == 9, "Dop supports the AABB (3 slabs) and the 18-DOP (9 slabs)");
+  static constexpr int kSlabs = Slabs;
+  static constexpr int K = 2 * Slabs;  ///< the k of k-DOP
+
+  float lo[Slabs];  ///< 4 * Slabs bytes: lower bound along each axis
+  float hi[Slabs];  ///< 4 * Slabs bytes: upper bound along each axis
+
+  /// The empty volume (contains nothing, overlaps nothing).
+  static Dop empty() {
+    Dop d;
+    for (int i = 0; i < Slabs; ++i) {
+      d.lo[i] = std::numeric_limits<float>::infinity();
+      d.hi[i] = -std::numeric_limits<float>::infinity();
+    }
+    return d;
+  }
+
+  /// Projections of p on the axes, in double. Each is off the exact value by at most one
+  /// rounding (relative 2^-53), which the float conversion in add_point absorbs.
+  static void project(const Vec3& p, double out[Slabs]) {
+    out[0] = p.x();
+    out[1] = p.y();
+    out[2] = p.z();
+    if constexpr (Slabs == 9) {
+      out[3] = p.x() + p.y();
+      out[4] = p.x() - p.y();
+      out[5] = p.x() + p.z();
+      out[6] = p.x() - p.z();
+      out[7] = p.y() + p.z();
+      out[8] = p.y() - p.z();
+    }
+  }
+
+  /// Grows the volume to contain p. Bounds are rounded to float and then moved one float
+  /// step outward, which covers both the double rounding of the projection (2^-53 relative)
+  /// and the float rounding (2^-24 relative): the float bound is strictly outside the exact
+  /// projection unless that projection is exactly representable, in which case it is still
+  /// outside or on it.
+  void add_point(const Vec3& p) {
+    double pr[Slabs];
+    project(p, pr);
+    for (int i = 0; i < Slabs; ++i) {
+      const float f = static_cast<float>(pr[i]);
+      const float l = std::nextafter(f, -std::numeric_limits<float>::infinity());
+      const float h = std::nextafter(f, std::numeric_limits<float>::infinity());
+      lo[i] = l < lo[i] ? l : lo[i];
+      hi[i] = h > hi[i] ? h : hi[i];
+    }
+  }
+
+  /// Grows the volume to contain `o`.
+  void merge(const Dop& o) {
+    for (int i = 0; i < Slabs; ++i) {
+      lo[i] = o.lo[i] < lo[i] ? o.lo[i] : lo[i];
+      hi[i] = o.hi[i] > hi[i] ? o.hi[i] : hi[i];
+    }
+  }
+
+  static Dop merged(const Dop& a, const Dop& b) {
+    Dop d = a;
+    d.merge(b);
+    return d;
+  }
+
+  /// Moves every face outward by `d` >= 0 (rounded outward). Two points within distance d
+  /// project within d * |axis| <= sqrt(2) d of each other, so inflating both volumes by d
+  /// keeps every pair within distance d overlapping.
+  void inflate(double d) {
+    for (int i = 0; i < Slabs; ++i) {
+      lo[i] = std::nextafter(static_cast<float>(lo[i] - d), -std::numeric_limits<float>::infinity());
+      hi[i] = std::nextafter(static_cast<float>(hi[i] + d), std::numeric_limits<float>::infinity());
+    }
+  }
+
+  /// True when the slabs intersect along every axis (touching counts as overlapping).
+  bool overlaps(const Dop& o) const {
+    bool sep = false;
+    for (int i = 0; i < Slabs; ++i) sep |= (lo[i] > o.hi[i]) | (o.lo[i] > hi[i]);
+    return !sep;
+  }
+
+  /// True when the point's exact projections lie inside the slabs (used by tests).
+  bool contains(const Vec3& p) const {
+    double pr[Slabs];
+    project(p, pr);
+    for (int i = 0; i < Slabs; ++i)
+      if (pr[i] < lo[i] || pr[i] > hi[i]) return false;
+    return true;
+  }
+};
+
+using Aabb = Dop<3>;
+using Kdop18 = Dop<9>;
+static_assert(sizeof(Kdop18) == 72, "18-DOP: 18 floats");
+static_assert(sizeof(Aabb) == 24, "AABB: 6 floats");
+
+}  // namespace mccd

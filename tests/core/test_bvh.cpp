@@ -1,0 +1,57 @@
+#include "core/bvh.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/kdop.h"
+
+using namespace mccd;
+
+TEST(Bvh, DepthFirstLayoutInvariants) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int n : {1, 2, 3, 7, 100, 1000}) {
+    std::vector<Vec3> c(n);
+    for (auto& p : c) p = Vec3(U(rng), U(rng) * 3, U(rng) * 0.1);
+    if (n == 100)
+      for (auto& p : c) p = Vec3(1, 1, 1);  // all equal: count-median fallback
+    BvhTopology b(c);
+    ASSERT_EQ(b.size(), std::size_t(2 * n - 1));
+    std::vector<int> seen(n, 0);
+    for (std::uint32_t i = 0; i < b.size(); ++i) {
+      if (b.leaf(i)) {
+        ++seen[b.triangle(i)];
+        EXPECT_EQ(b.leaf_of(b.triangle(i)), i);
+      } else {
+        EXPECT_EQ(b.nodes()[b.left(i)].end, b.right(i));  // left subtree ends where right starts
+        EXPECT_EQ(b.nodes()[b.right(i)].end, b.nodes()[i].end);
+      }
+    }
+    for (int s : seen) EXPECT_EQ(s, 1);
+    if (n == 1000) EXPECT_LT(b.depth(), 40u);
+  }
+}
+
+TEST(Bvh, RefitContainsChildren) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<Vec3> c(257);
+  for (auto& p : c) p = Vec3(U(rng), U(rng), U(rng));
+  BvhTopology b(c);
+  std::vector<Kdop18> vol(b.size());
+  refit_range(b, vol, 0, std::uint32_t(b.size()), [&](std::uint32_t t) {
+    Kdop18 d = Kdop18::empty();
+    d.add_point(c[t]);
+    d.add_point(c[t] + Vec3(0.01, 0, 0));
+    return d;
+  });
+  for (std::uint32_t i = 0; i < b.size(); ++i)
+    if (!b.leaf(i))
+      for (std::uint32_t ch : {b.left(i), b.right(i)})
+        for (int k = 0; k < 9; ++k) {
+          EXPECT_LE(vol[i].lo[k], vol[ch].lo[k]);
+          EXPECT_GE(vol[i].hi[k], vol[ch].hi[k]);
+        }
+  for (std::size_t t = 0; t < c.size(); ++t) EXPECT_TRUE(vol[0].contains(c[t]));
+}

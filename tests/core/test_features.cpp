@@ -1,0 +1,63 @@
+// Representative features: every VF and EE pair that must be tested has exactly one carrier
+// among the non-adjacent triangle pairs, or is in the orphan set, never both.
+#include "core/features.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/scenes.h"
+
+using namespace mccd;
+
+namespace {
+void check_partition(const TriMesh& m) {
+  MeshTopology topo(m.num_vertices(), m.faces);
+  FeaturePairs fp(topo);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> ovf(fp.orphan_vf().begin(), fp.orphan_vf().end());
+  std::set<std::pair<std::uint32_t, std::uint32_t>> oee(fp.orphan_ee().begin(), fp.orphan_ee().end());
+  EXPECT_EQ(ovf.size(), fp.orphan_vf().size());
+  for (std::uint32_t v = 0; v < topo.num_vertices(); ++v)
+    for (std::uint32_t f = 0; f < topo.num_faces(); ++f) {
+      const Triangle& t = topo.faces()[f];
+      if (t[0] == v || t[1] == v || t[2] == v) continue;
+      int carriers = 0;
+      for (auto* s = topo.vertex_faces_begin(v); s != topo.vertex_faces_end(v); ++s)
+        if (!topo.adjacent(*s, f) && fp.carries_vf(v, *s, f)) ++carriers;
+      ASSERT_EQ(carriers + int(ovf.count({v, f})), 1) << "VF " << v << " " << f;
+    }
+  for (std::uint32_t a = 0; a < topo.num_edges(); ++a)
+    for (std::uint32_t b = a + 1; b < topo.num_edges(); ++b) {
+      const Edge &ea = topo.edges()[a], &eb = topo.edges()[b];
+      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      int carriers = 0;
+      for (auto s : topo.edge_faces(a))
+        for (auto t : topo.edge_faces(b))
+          if (!topo.adjacent(s, t) && fp.carries_ee(a, s, b, t)) ++carriers;
+      ASSERT_EQ(carriers + int(oee.count({a, b})), 1) << "EE " << a << " " << b;
+    }
+}
+}  // namespace
+
+TEST(FeaturePairs, GridPartition) { check_partition(make_grid_mesh(6)); }
+TEST(FeaturePairs, SpherePartition) { check_partition(make_sphere_mesh(6, 10)); }
+TEST(FeaturePairs, TubePartition) { check_partition(make_twisting_tube(8, 7, 2).meshes[0]); }
+
+TEST(FeaturePairs, NonManifoldFan) {
+  // three triangles sharing one edge (0,1), plus a separate one touching at vertex 2
+  TriMesh m;
+  m.vertices.resize(7, 3);
+  m.vertices.setRandom();
+  m.faces = {{0, 1, 2}, {0, 1, 3}, {1, 0, 4}, {2, 5, 6}};
+  check_partition(m);
+}
+
+TEST(FeaturePairs, OrphansAreFewOnAGrid) {
+  // Interior vertices of a regular grid: an orphan needs every face around v adjacent to f.
+  TriMesh g = make_grid_mesh(20);
+  MeshTopology topo(g.num_vertices(), g.faces);
+  FeaturePairs fp(topo);
+  EXPECT_GT(fp.orphan_vf().size(), 0u);
+  EXPECT_LT(fp.orphan_vf().size(), 2 * g.num_vertices());
+  EXPECT_LT(fp.orphan_ee().size(), 2 * topo.num_edges());
+}

@@ -1,0 +1,192 @@
+// Scene: the three methods (brute force, traversal from the root, front tracking) must give
+// identical contacts at every step of generated scenes; bad input must leave no trace.
+#include "core/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/scenes.h"
+#include "geometry/error.h"
+
+using namespace mccd;
+
+namespace {
+
+std::vector<PositionsView> views(const std::vector<Positions>& frame) {
+  return std::vector<PositionsView>(frame.begin(), frame.end());
+}
+
+std::string describe(const Contact& c) {
+  return std::string(c.kind == ContactKind::VertexFace ? "VF " : "EE ") + std::to_string(c.mesh_a) + ":" +
+         std::to_string(c.a) + " " + std::to_string(c.mesh_b) + ":" + std::to_string(c.b);
+}
+
+/// Runs every step of `s` with each method in its own scene and checks identical results.
+/// Returns the total number of contacts seen.
+std::size_t expect_methods_agree(const AnimatedScene& s, SceneOptions opt = {}) {
+  Scene brute(s.meshes, opt), trav(s.meshes, opt), front(s.meshes, opt);
+  std::size_t total = 0;
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    auto next = views(s.frames[f]);
+    StepResult rb = brute.advance(next, Method::BruteForce);
+    StepResult rt = trav.advance(next, Method::Traverse);
+    StepResult rf = front.advance(next, Method::Front);
+    EXPECT_EQ(rb.contacts.size(), rt.contacts.size()) << s.name << " step " << f;
+    EXPECT_EQ(rb.contacts.size(), rf.contacts.size()) << s.name << " step " << f;
+    if (rb.contacts != rt.contacts || rb.contacts != rf.contacts) {
+      ADD_FAILURE() << s.name << " step " << f << ": contacts differ";
+      for (std::size_t i = 0; i < std::max({rb.contacts.size(), rt.contacts.size(), rf.contacts.size()}); ++i) {
+        const std::string b = i < rb.contacts.size() ? describe(rb.contacts[i]) : "-";
+        const std::string t = i < rt.contacts.size() ? describe(rt.contacts[i]) : "-";
+        const std::string fr = i < rf.contacts.size() ? describe(rf.contacts[i]) : "-";
+        if (b != t || b != fr) {
+          ADD_FAILURE() << "first difference at " << i << ": brute " << b << ", traverse " << t << ", front " << fr;
+          break;
+        }
+      }
+      return total;
+    }
+    EXPECT_EQ(rb.earliest_toi, rf.earliest_toi);
+    for (std::size_t i = 1; i < rf.contacts.size(); ++i) EXPECT_TRUE(rf.contacts[i - 1] < rf.contacts[i]);
+    total += rf.contacts.size();
+  }
+  return total;
+}
+
+}  // namespace
+
+TEST(SceneMethods, FoldingClothAgree) {
+  AnimatedScene s = make_folding_cloth(40, 51);  // 3,200 triangles, 50 steps
+  EXPECT_GT(expect_methods_agree(s), 100u);
+}
+
+TEST(SceneMethods, LargeFoldingClothAgree) {
+  AnimatedScene s = make_folding_cloth(100, 51);  // 20,000 triangles, 50 steps
+  EXPECT_GT(expect_methods_agree(s), 1000u);
+}
+
+TEST(SceneMethods, DeformingSpheresAgree) {
+  AnimatedScene s = make_deforming_spheres(4, 10, 51);  // 4 x 360 triangles
+  EXPECT_GT(s.num_triangles(), 1000u);
+  EXPECT_GT(expect_methods_agree(s), 100u);
+}
+
+TEST(SceneMethods, RandomTrianglesAgree) {
+  AnimatedScene s = make_random_triangles(3000, 51, 7);
+  EXPECT_GT(expect_methods_agree(s), 10u);
+}
+
+TEST(SceneMethods, TwistingTubeAgree) {
+  AnimatedScene s = make_twisting_tube(60, 30, 51);  // 3,540 triangles
+  EXPECT_GT(expect_methods_agree(s), 10u);
+}
+
+TEST(SceneMethods, AabbAgrees) {
+  SceneOptions opt;
+  opt.volume = VolumeKind::Aabb;
+  AnimatedScene s = make_folding_cloth(30, 31);
+  EXPECT_GT(expect_methods_agree(s, opt), 10u);
+}
+
+TEST(SceneMethods, MinDistanceAgrees) {
+  SceneOptions opt;
+  opt.min_distance = 0.01;
+  AnimatedScene s = make_deforming_spheres(3, 8, 21);
+  EXPECT_GT(expect_methods_agree(s, opt), 10u);
+}
+
+TEST(SceneFront, RebuildPolicyDoesNotChangeContacts) {
+  AnimatedScene s = make_folding_cloth(30, 41);
+  SceneOptions always, never;
+  always.rebuild_sprout_ratio = always.rebuild_invalid_ratio = 1e-9;  // rebuild every other step
+  never.rebuild_sprout_ratio = never.rebuild_invalid_ratio = 1e9;     // track forever
+  Scene a(s.meshes, always), n(s.meshes, never), t(s.meshes);
+  std::uint64_t rebuilds_a = 0, rebuilds_n = 0;
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    auto next = views(s.frames[f]);
+    StepResult ra = a.advance(next, Method::Front), rn = n.advance(next, Method::Front),
+               rt = t.advance(next, Method::Traverse);
+    ASSERT_EQ(ra.contacts, rt.contacts) << "step " << f;
+    ASSERT_EQ(rn.contacts, rt.contacts) << "step " << f;
+    rebuilds_a += ra.stats.rebuilds;
+    rebuilds_n += rn.stats.rebuilds;
+    if (f > 1) {
+      EXPECT_GT(rn.stats.front_size, 0u);
+    }
+  }
+  EXPECT_EQ(rebuilds_n, 1u);  // only the first build
+  EXPECT_GT(rebuilds_a, 10u);
+}
+
+TEST(SceneFront, FrontTestsFewerVolumesThanTraverse) {
+  AnimatedScene s = make_folding_cloth(60, 41);
+  Scene f(s.meshes), t(s.meshes);
+  std::uint64_t vf = 0, vt = 0;
+  for (std::size_t i = 1; i < s.frames.size(); ++i) {
+    auto next = views(s.frames[i]);
+    vf += f.advance(next, Method::Front).stats.volume_tests;
+    vt += t.advance(next, Method::Traverse).stats.volume_tests;
+  }
+  EXPECT_LT(vf, vt);
+}
+
+TEST(SceneInput, RefusedStepLeavesSceneUnchanged) {
+  AnimatedScene s = make_folding_cloth(20, 6);
+  Scene a(s.meshes), b(s.meshes);
+  a.advance(views(s.frames[1]));
+  b.advance(views(s.frames[1]));
+  Positions bad = s.frames[2][0];
+  bad(17, 1) = std::numeric_limits<double>::quiet_NaN();
+  try {
+    a.advance(std::vector<PositionsView>{bad});
+    FAIL() << "NaN accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 17"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mesh 0"), std::string::npos) << e.what();
+  }
+  Positions short_frame = s.frames[2][0].topRows(10);
+  EXPECT_THROW(a.advance(std::vector<PositionsView>{short_frame}), Error);
+  EXPECT_THROW(a.advance(std::vector<PositionsView>{}), Error);
+  EXPECT_THROW(a.step(std::vector<PositionsView>{s.frames[1][0]}, std::vector<PositionsView>{bad}), Error);
+  for (int f = 2; f < 6; ++f) {
+    StepResult ra = a.advance(views(s.frames[f])), rb = b.advance(views(s.frames[f]));
+    EXPECT_EQ(ra.contacts, rb.contacts);
+    EXPECT_EQ(ra.stats.volume_tests, rb.stats.volume_tests);
+  }
+}
+
+TEST(SceneInput, RefusesBadMeshesAndOptions) {
+  TriMesh m = make_grid_mesh(2);
+  m.faces[3][1] = 99;
+  EXPECT_THROW(Scene({m}), Error);
+  SceneOptions opt;
+  opt.min_distance = -1;
+  EXPECT_THROW(Scene({make_grid_mesh(2)}, opt), Error);
+}
+
+TEST(SceneContacts, MultiMeshIdsAreLocal) {
+  AnimatedScene s = make_deforming_spheres(3, 6, 11);
+  Scene sc(s.meshes);
+  bool saw_inter = false;
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    StepResult r = sc.advance(views(s.frames[f]));
+    for (const Contact& c : r.contacts) {
+      ASSERT_LT(c.mesh_a, 3u);
+      ASSERT_LT(c.mesh_b, 3u);
+      if (c.kind == ContactKind::VertexFace) {
+        EXPECT_LT(c.a, s.meshes[c.mesh_a].num_vertices());
+        EXPECT_LT(c.b, s.meshes[c.mesh_b].num_faces());
+      } else {
+        const MeshTopology ta(s.meshes[c.mesh_a].num_vertices(), s.meshes[c.mesh_a].faces);
+        EXPECT_EQ(ta.edges()[c.a][0], c.a_vertices[0]);
+        EXPECT_EQ(ta.edges()[c.a][1], c.a_vertices[1]);
+      }
+      saw_inter |= c.mesh_a != c.mesh_b;
+      EXPECT_GE(c.toi, 0.0);
+      EXPECT_LE(c.toi, 1.0);
+    }
+  }
+  EXPECT_TRUE(saw_inter);
+}

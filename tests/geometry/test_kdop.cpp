@@ -1,0 +1,69 @@
+#include "geometry/kdop.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace mccd;
+
+TEST(Kdop, ContainsItsPointsAfterFloatRounding) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int i = 0; i < 2000; ++i) {
+    const double scale = std::pow(10.0, int(rng() % 12) - 6);
+    Kdop18 d = Kdop18::empty();
+    Aabb b = Aabb::empty();
+    std::vector<Vec3> pts;
+    for (int k = 0; k < 6; ++k) {
+      pts.emplace_back(Vec3(U(rng), U(rng), U(rng)) * scale + Vec3::Constant(1000 * U(rng)));
+      d.add_point(pts.back());
+      b.add_point(pts.back());
+    }
+    for (auto& p : pts) {
+      EXPECT_TRUE(d.contains(p));
+      EXPECT_TRUE(b.contains(p));
+      // every point on a segment between two of them is inside too (convexity)
+      EXPECT_TRUE(d.contains(0.5 * (pts[0] + pts[3])));
+    }
+  }
+}
+
+TEST(Kdop, OverlapIsSymmetricAndDiagonalSeparates) {
+  Kdop18 a = Kdop18::empty(), b = Kdop18::empty();
+  a.add_point(Vec3(0, 0, 0));
+  a.add_point(Vec3(1, 0, 0));
+  a.add_point(Vec3(0, 1, 0));
+  b.add_point(Vec3(1, 1, 0));
+  b.add_point(Vec3(0.9, 0.9, 0));
+  // AABBs overlap, but the x+y slab separates them
+  Aabb aa = Aabb::empty(), bb = Aabb::empty();
+  aa.add_point(Vec3(0, 0, 0));
+  aa.add_point(Vec3(1, 0, 0));
+  aa.add_point(Vec3(0, 1, 0));
+  bb.add_point(Vec3(1, 1, 0));
+  bb.add_point(Vec3(0.9, 0.9, 0));
+  EXPECT_TRUE(aa.overlaps(bb));
+  EXPECT_FALSE(a.overlaps(b));
+  EXPECT_FALSE(b.overlaps(a));
+  b.add_point(Vec3(0.5, 0.5, 0));  // now touching the hypotenuse
+  EXPECT_TRUE(a.overlaps(b));
+  EXPECT_TRUE(b.overlaps(a));
+  EXPECT_FALSE(Kdop18::empty().overlaps(a));
+}
+
+TEST(Kdop, InflateCoversDistance) {
+  Kdop18 a = Kdop18::empty(), b = Kdop18::empty();
+  a.add_point(Vec3(0, 0, 0));
+  b.add_point(Vec3(0.3, 0.3, 0.3));  // distance 0.5196
+  EXPECT_FALSE(a.overlaps(b));
+  // both inflated by the distance: every slab gap (at most sqrt(2) * 0.5196) is covered
+  Kdop18 a2 = a, b2 = b;
+  a2.inflate(0.52);
+  b2.inflate(0.52);
+  EXPECT_TRUE(a2.overlaps(b2));
+  // inflated by half the distance, the x+y slab (gap 0.6) still separates them
+  Kdop18 a3 = a, b3 = b;
+  a3.inflate(0.26);
+  b3.inflate(0.26);
+  EXPECT_FALSE(a3.overlaps(b3));
+}

@@ -1,0 +1,167 @@
+// `mccd queries`: runs the elementary CCD tests on benchmark query files and compares with
+// their ground truth.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "args.h"
+#include "command.h"
+#include "geometry/ccd.h"
+#include "geometry/error.h"
+#include "geometry/query_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mccd::Error;
+
+enum class Kind { VF, EE };
+
+struct Stats {
+  std::uint64_t queries = 0, positives = 0, with_truth = 0, reported = 0, fn = 0, fp = 0;
+  double total_ns = 0, max_ns = 0;
+};
+
+// The kind of a file: --kind, else the nearest folder named vertex-face / edge-edge, else the
+// file name (vf / ee in the name, as the Time-of-Impact files 227vf.csv, 227ee.csv).
+bool kind_of(const fs::path& file, const std::string& forced, Kind& kind) {
+  if (forced == "vf" || forced == "ee") {
+    kind = forced == "vf" ? Kind::VF : Kind::EE;
+    return true;
+  }
+  for (fs::path p = file.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    const std::string name = p.filename().string();
+    if (name == "vertex-face") return kind = Kind::VF, true;
+    if (name == "edge-edge") return kind = Kind::EE, true;
+    if (p == p.parent_path()) break;
+  }
+  const std::string stem = file.stem().string();
+  const bool vf = stem.find("vf") != std::string::npos, ee = stem.find("ee") != std::string::npos;
+  if (vf != ee) return kind = vf ? Kind::VF : Kind::EE, true;
+  return false;
+}
+
+int queries(const std::vector<std::string>& argv) {
+  mccd::cli::Args args(argv, {"kind", "truth", "min-distance", "repeat"}, {"verbose"});
+  if (args.positional().empty()) throw Error("usage: mccd queries PATH... [--kind vf|ee] [--truth FILE.json] [--min-distance D]");
+  const std::string forced = args.get("kind");
+  if (!forced.empty() && forced != "vf" && forced != "ee") throw Error("--kind must be vf or ee, got '" + forced + "'");
+  mccd::CcdOptions options;
+  options.min_distance = args.get_double("min-distance", 0.0);
+  if (!(options.min_distance >= 0)) throw Error("--min-distance must be >= 0");
+  const long repeat = args.get_int("repeat", 5);
+  if (repeat < 1) throw Error("--repeat must be >= 1");
+  const bool verbose = args.has("verbose");
+
+  std::vector<fs::path> files;
+  for (const std::string& p : args.positional()) {
+    if (fs::is_directory(p)) {
+      std::vector<fs::path> found;
+      for (const auto& entry : fs::recursive_directory_iterator(p))
+        if (entry.is_regular_file() && entry.path().extension() == ".csv") found.push_back(entry.path());
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::is_regular_file(p)) {
+      files.emplace_back(p);
+    } else {
+      throw Error(p + ": no such file or directory");
+    }
+  }
+  std::vector<bool> truth_json;
+  bool have_json = false;
+  if (args.has("truth")) {
+    const std::string tp = args.get("truth");
+    std::ifstream in(tp);
+    if (!in) throw Error(tp + ": cannot open");
+    nlohmann::json j;
+    try {
+      in >> j;
+    } catch (const std::exception& e) {
+      throw Error(tp + ": not valid JSON: " + e.what());
+    }
+    if (!j.is_array()) throw Error(tp + ": expected a JSON array of booleans");
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      if (!j[i].is_boolean() && !j[i].is_number_integer())
+        throw Error(tp + ": element " + std::to_string(i) + " is not a boolean");
+      truth_json.push_back(j[i].is_boolean() ? j[i].get<bool>() : j[i].get<int>() != 0);
+    }
+    have_json = true;
+  }
+
+  std::map<Kind, Stats> stats;
+  std::size_t json_index = 0;
+  using clock = std::chrono::steady_clock;
+  for (const fs::path& file : files) {
+    Kind kind;
+    if (!kind_of(file, forced, kind))
+      throw Error(file.string() + ": cannot tell vertex-face from edge-edge (use --kind vf|ee)");
+    const std::vector<mccd::CcdQuery> qs = mccd::read_query_csv(file.string());
+    Stats& st = stats[kind];
+    for (std::size_t qi = 0; qi < qs.size(); ++qi) {
+      const mccd::CcdQuery& q = qs[qi];
+      int truth = q.truth;
+      if (truth < 0 && have_json) {
+        if (json_index >= truth_json.size())
+          throw Error(args.get("truth") + ": has " + std::to_string(truth_json.size()) + " entries, fewer than the queries");
+        truth = truth_json[json_index] ? 1 : 0;
+      }
+      if (q.truth < 0 && have_json) ++json_index;
+      double toi = 1;
+      bool hit = false;
+      double best = HUGE_VAL;
+      for (long r = 0; r < repeat; ++r) {
+        const auto t0 = clock::now();
+        hit = kind == Kind::VF ? mccd::vertex_face_ccd(q.points, toi, options)
+                               : mccd::edge_edge_ccd(q.points, toi, options);
+        const auto t1 = clock::now();
+        best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count());
+      }
+      ++st.queries;
+      st.total_ns += best;
+      st.max_ns = std::max(st.max_ns, best);
+      st.reported += hit;
+      if (truth >= 0) {
+        ++st.with_truth;
+        st.positives += truth == 1;
+        if (truth == 1 && !hit) {
+          ++st.fn;
+          std::cerr << "false negative: " << file.string() << " query " << qi << "\n";
+        }
+        if (truth == 0 && hit) {
+          ++st.fp;
+          if (verbose) std::cerr << "false positive: " << file.string() << " query " << qi << " toi " << toi << "\n";
+        }
+      }
+    }
+  }
+  if (have_json && json_index != truth_json.size())
+    std::cerr << "warning: " << args.get("truth") << " has " << truth_json.size() << " entries, " << json_index
+              << " queries read\n";
+
+  std::cout << "kind         queries  positives  reported  false-neg  false-pos   mean-ns    max-ns\n";
+  bool any_fn = false;
+  for (const auto& [kind, st] : stats) {
+    any_fn = any_fn || st.fn > 0;
+    std::cout << std::left << std::setw(11) << (kind == Kind::VF ? "vertex-face" : "edge-edge") << std::right
+              << std::setw(9) << st.queries << std::setw(11) << st.positives << std::setw(10) << st.reported
+              << std::setw(11) << st.fn << std::setw(11) << st.fp << std::setw(10) << std::fixed
+              << std::setprecision(1) << (st.queries ? st.total_ns / static_cast<double>(st.queries) : 0.0)
+              << std::setw(10) << st.max_ns << "\n";
+    if (st.with_truth < st.queries)
+      std::cout << "  (" << st.queries - st.with_truth << " queries without ground truth)\n";
+  }
+  std::cout << "time per query: the fastest of " << repeat << " runs, steady_clock around one call\n";
+  return any_fn ? 1 : 0;
+}
+
+const mccd::cli::Command reg("queries", "queries PATH... [--kind vf|ee] [--truth FILE.json] [--min-distance D] [--repeat N] [--verbose]",
+                             "run the elementary CCD tests on benchmark query files (CSV) and compare with the ground truth",
+                             queries);
+
+}  // namespace

@@ -1,0 +1,141 @@
+// `mccd toi-check DIR`: one step of a scene in the Time-of-Impact data layout, checked against
+// its exact ground truth (frames/, boxes/, mma_bool/).
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <unordered_set>
+
+#include "args.h"
+#include "command.h"
+#include "core/scene.h"
+#include "geometry/mesh_io.h"
+
+namespace {
+
+using namespace mccd;
+namespace fs = std::filesystem;
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  if (!in) throw Error(p.string() + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw Error(p.string() + ": invalid JSON: " + e.what());
+  }
+}
+
+std::uint64_t key(std::uint64_t a, std::uint64_t b) { return (a << 32) | b; }
+
+struct KindReport {
+  std::size_t listed = 0, truth = 0, found = 0, missed = 0, beyond = 0;
+};
+
+/// The true pairs of one kind: boxes file + matching truth file, as keys of global ids.
+std::vector<std::uint64_t> true_pairs(const fs::path& boxes, const fs::path& truth, std::size_t& listed) {
+  const nlohmann::json b = read_json(boxes), t = read_json(truth);
+  if (!b.is_array() || !t.is_array())
+    throw Error(boxes.string() + ": expected a JSON array of pairs, and a JSON array of booleans in " + truth.string());
+  if (b.size() != t.size())
+    throw Error(truth.string() + ": " + std::to_string(t.size()) + " booleans for " + std::to_string(b.size()) +
+                " pairs in " + boxes.string());
+  listed = b.size();
+  std::vector<std::uint64_t> out;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    if (!b[i].is_array() || b[i].size() != 2 || !b[i][0].is_number_unsigned() || !b[i][1].is_number_unsigned())
+      throw Error(boxes.string() + ": pair " + std::to_string(i) + ": expected [id, id]");
+    if (!t[i].is_boolean()) throw Error(truth.string() + ": entry " + std::to_string(i) + ": expected a boolean");
+    if (t[i].get<bool>()) out.push_back(key(b[i][0].get<std::uint64_t>(), b[i][1].get<std::uint64_t>()));
+  }
+  return out;
+}
+
+fs::path find_one(const fs::path& dir, const std::string& suffix) {
+  if (!fs::is_directory(dir)) throw Error(dir.string() + ": no such folder");
+  std::vector<fs::path> hits;
+  for (auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().size() >= suffix.size() &&
+        e.path().filename().string().ends_with(suffix))
+      hits.push_back(e.path());
+  if (hits.size() != 1)
+    throw Error(dir.string() + ": expected exactly one *" + suffix + " file, found " + std::to_string(hits.size()));
+  return hits[0];
+}
+
+int toi_check(const std::vector<std::string>& args) {
+  cli::Args a(args, {"method", "min-distance"}, {});
+  if (a.positional().size() != 1) throw Error("usage: mccd toi-check DIR [--method ...]");
+  const fs::path dir = a.positional()[0];
+  const Method method = parse_method(a.get("method", "front").c_str());
+  std::vector<std::string> frames;
+  for (auto& e : fs::directory_iterator(dir / "frames"))
+    if (e.path().extension() == ".ply") frames.push_back(e.path().string());
+  std::sort(frames.begin(), frames.end());
+  if (frames.size() != 2)
+    throw Error((dir / "frames").string() + ": expected two .ply frames, found " + std::to_string(frames.size()));
+  FrameSequence seq = read_frames(frames);
+  const std::size_t nv = seq.mesh.num_vertices();
+  SceneOptions opt;
+  opt.min_distance = a.get_double("min-distance", 0.0);
+  Scene scene({seq.mesh}, opt);
+  const std::size_t ne = scene.topology().num_edges();
+  std::printf("%s: %zu vertices, %zu triangles, %zu edges; step %s -> %s, method %s\n", dir.string().c_str(), nv,
+              seq.mesh.num_faces(), ne, fs::path(frames[0]).filename().c_str(), fs::path(frames[1]).filename().c_str(),
+              to_string(method));
+
+  std::size_t listed_vf = 0, listed_ee = 0;
+  const auto vf_true = true_pairs(find_one(dir / "boxes", "vf.json"), find_one(dir / "mma_bool", "vf_mma_bool.json"), listed_vf);
+  const auto ee_true = true_pairs(find_one(dir / "boxes", "ee.json"), find_one(dir / "mma_bool", "ee_mma_bool.json"), listed_ee);
+
+  StepResult r = scene.step(seq.frames[0], seq.frames[1], method);
+  std::unordered_set<std::uint64_t> got_vf, got_ee;
+  for (const Contact& c : r.contacts) {
+    if (c.kind == ContactKind::VertexFace)
+      got_vf.insert(key(c.a, nv + ne + c.b));
+    else
+      got_ee.insert(key(nv + c.a, nv + c.b));
+  }
+  auto report = [](const char* kind, std::size_t listed, const std::vector<std::uint64_t>& truth,
+                   const std::unordered_set<std::uint64_t>& got) {
+    KindReport k;
+    k.listed = listed;
+    k.truth = truth.size();
+    std::unordered_set<std::uint64_t> truth_set;
+    for (auto t : truth) {
+      // pairs may be listed in either order
+      const std::uint64_t swapped = key(t & 0xffffffffu, t >> 32);
+      truth_set.insert(t);
+      truth_set.insert(swapped);
+      if (got.count(t) || got.count(swapped))
+        ++k.found;
+      else
+        ++k.missed;
+    }
+    for (auto g : got)
+      if (!truth_set.count(g)) ++k.beyond;
+    std::printf("  %s: %zu listed pairs, %zu true; reported %zu: found %zu, missed %zu (false negatives), %zu beyond the list\n",
+                kind, k.listed, k.truth, got.size(), k.found, k.missed, k.beyond);
+    return k;
+  };
+  const KindReport vf = report("vertex-face", listed_vf, vf_true, got_vf);
+  const KindReport ee = report("edge-edge  ", listed_ee, ee_true, got_ee);
+  const StepStats& s = r.stats;
+  std::printf("  volume tests %llu, VF elementary tests %llu, EE elementary tests %llu, feature box tests %llu\n",
+              (unsigned long long)s.volume_tests, (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests,
+              (unsigned long long)s.feature_box_tests);
+  std::printf("  front %llu nodes, orphan set %zu VF + %zu EE (tested %llu + %llu); earliest toi %.9g\n",
+              (unsigned long long)s.front_size, scene.orphan_vf_count(), scene.orphan_ee_count(),
+              (unsigned long long)s.orphan_vf_tested, (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
+  std::printf("  time %.3f s (update %.3f, refit %.3f, front %.3f, orphans %.3f)\n", s.t_total, s.t_update, s.t_refit,
+              s.t_front, s.t_orphans);
+  const std::size_t missed = vf.missed + ee.missed;
+  std::printf("%s: %zu true pairs missed\n", missed ? "FAIL" : "OK", missed);
+  return missed ? 1 : 0;
+}
+
+const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|front] [--min-distance D]",
+                       "runs one step of a Time-of-Impact data set scene and checks every true pair is reported",
+                       toi_check);
+}  // namespace
