@@ -50,6 +50,10 @@ struct StepStats {
   std::uint64_t feature_box_tests = 0; ///< feature-pair swept-volume tests before elementary tests
   std::uint64_t vf_tests = 0;          ///< vertex-face elementary tests run
   std::uint64_t ee_tests = 0;          ///< edge-edge elementary tests run
+  /// Elementary tests that passed their own cheap filters (swept box, Bernstein coplanarity)
+  /// and reached root isolation and the inside test.
+  std::uint64_t vf_root_tests = 0;
+  std::uint64_t ee_root_tests = 0;
   std::uint64_t vf_contacts = 0;
   std::uint64_t ee_contacts = 0;
   std::uint64_t leaf_pairs = 0;        ///< non-adjacent leaf pairs whose volumes overlapped

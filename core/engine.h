@@ -39,7 +39,10 @@ struct RawContact {
 struct Counters {
   std::uint64_t volume_tests = 0, feature_box_tests = 0, vf_tests = 0, ee_tests = 0, leaf_pairs = 0,
                 sprouted = 0, invalidated = 0, orphan_vf = 0, orphan_ee = 0;
+  CcdCounters vf_ccd, ee_ccd;  ///< per-stage counts inside the elementary tests
   void add(const Counters& o) {
+    vf_ccd.root_tests += o.vf_ccd.root_tests;
+    ee_ccd.root_tests += o.ee_ccd.root_tests;
     volume_tests += o.volume_tests;
     feature_box_tests += o.feature_box_tests;
     vf_tests += o.vf_tests;
@@ -127,7 +130,7 @@ class Engine {
     const std::uint32_t ids[4] = {v, t[0], t[1], t[2]};
     load(ids, p);
     double toi = 0;
-    if (vertex_face_ccd(p, toi, g_.ccd)) out.contacts.push_back({v, f, ContactKind::VertexFace, toi});
+    if (vertex_face_ccd(p, toi, g_.ccd, &out.counters.vf_ccd)) out.contacts.push_back({v, f, ContactKind::VertexFace, toi});
   }
   void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
     if (a > b) std::swap(a, b);
@@ -140,7 +143,7 @@ class Engine {
     const std::uint32_t ids[4] = {ea[0], ea[1], eb[0], eb[1]};
     load(ids, p);
     double toi = 0;
-    if (edge_edge_ccd(p, toi, g_.ccd)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
+    if (edge_edge_ccd(p, toi, g_.ccd, &out.counters.ee_ccd)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
   }
 
   /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).

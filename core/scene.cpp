@@ -36,6 +36,18 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 constexpr std::size_t kFrontBlock = 2048;  // front nodes per block of work
 }  // namespace
 
+/// Counting sort of front nodes by their first BVH node (stable: the traversal order is kept
+/// among nodes of one first node). Linear in the front and the BVH size.
+void sort_by_first_node(const std::vector<NodePair>& in, std::vector<NodePair>& out) {
+  std::uint32_t max_a = 0;
+  for (const NodePair& n : in) max_a = std::max(max_a, n.a);
+  std::vector<std::uint32_t> start(std::size_t(max_a) + 2, 0);
+  for (const NodePair& n : in) ++start[n.a + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  out.resize(in.size());
+  for (const NodePair& n : in) out[start[n.a]++] = n;
+}
+
 struct Scene::Impl {
   SceneOptions options;
   std::vector<TriMesh> meshes;
@@ -138,8 +150,7 @@ struct Scene::Impl {
       o.clear();
       eng.template from_root<true>(o);
       collect(o);
-      front.swap(o.front);
-      std::sort(front.begin(), front.end());  // BVH-node order (paper section 4.8)
+      sort_by_first_node(o.front, front);  // BVH-node order (paper section 4.8)
       front_valid = true;
       sprouted_since_build = invalidated_since_build = 0;
       st.rebuilds = 1;
@@ -186,6 +197,8 @@ struct Scene::Impl {
     st.vf_tests = total.vf_tests;
     st.ee_tests = total.ee_tests;
     st.leaf_pairs = total.leaf_pairs;
+    st.vf_root_tests = total.vf_ccd.root_tests;
+    st.ee_root_tests = total.ee_ccd.root_tests;
     st.sprouted = total.sprouted;
     st.invalidated = total.invalidated;
     st.orphan_vf_tested = total.orphan_vf;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <limits>
 #ifdef MCCD_CCD_TRACE
 #include <cstdio>
 #endif
@@ -26,42 +27,58 @@ namespace {
 
 constexpr double kU = 0x1p-53;
 constexpr double kTiny = 0x1p-800;
+// Unit roundoff of the scalar type T of stage (c) (double, or long double in the second pass).
+template <class T>
+constexpr T unit_roundoff() { return std::numeric_limits<T>::epsilon() / 2; }
 // Cheap error bound of the coplanarity cubic (stage b): at most 9 roundings, magnitude
 // <= 6 alpha beta gamma; gamma_9 * 6 < 60 u, taken as 96 u.
 constexpr double kCubicErr = 96 * kU;
 
-struct V {
-  double x, y, z;
+template <class T>
+struct V3 {
+  T x, y, z;
 };
-inline V operator-(V a, V b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V operator+(V a, V b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V operator*(V a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-inline V cross(V a, V b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline double dot(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline double absdot(V a, V b) {
+template <class T>
+inline V3<T> operator-(V3<T> a, V3<T> b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <class T>
+inline V3<T> operator+(V3<T> a, V3<T> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+template <class T>
+inline V3<T> operator*(V3<T> a, T s) { return {a.x * s, a.y * s, a.z * s}; }
+template <class T>
+inline V3<T> cross(V3<T> a, V3<T> b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+template <class T>
+inline T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T>
+inline T absdot(V3<T> a, V3<T> b) {
   return std::fabs(a.x) * std::fabs(b.x) + std::fabs(a.y) * std::fabs(b.y) + std::fabs(a.z) * std::fabs(b.z);
 }
-inline double amax(V a) { return std::max(std::fabs(a.x), std::max(std::fabs(a.y), std::fabs(a.z))); }
-inline V lerp(V a, V b, double t) { return a + (b - a) * t; }
-inline V from(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+template <class T>
+inline T amax(V3<T> a) { return std::max(std::fabs(a.x), std::max(std::fabs(a.y), std::fabs(a.z))); }
+template <class T>
+inline V3<T> lerp(V3<T> a, V3<T> b, T t) { return a + (b - a) * t; }
+template <class T>
+inline V3<T> vabs(V3<T> a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+// The magnitude expression of a cross product: the same products, all added.
+template <class T>
+inline V3<T> across(V3<T> a, V3<T> b) { return {a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x}; }
 
 // A polynomial of degree N in Bernstein form over the current time piece.
-template <int N>
+template <int N, class T = double>
 struct Bern {
-  double c[N + 1];
+  T c[N + 1];
 };
 
-template <int N>
-inline double maxabs(const Bern<N>& p) {
-  double m = 0;
+template <int N, class T>
+inline T maxabs(const Bern<N, T>& p) {
+  T m = 0;
   for (int k = 0; k <= N; ++k) m = std::max(m, std::fabs(p.c[k]));
   return m;
 }
 
 // +1: every coefficient > thr (the polynomial is > 0 on the piece); -1: every one < -thr;
 // 0: undecided. NaN never decides.
-template <int N>
-inline int definite_sign(const Bern<N>& p, double thr) {
+template <int N, class T>
+inline int definite_sign(const Bern<N, T>& p, T thr) {
   bool pos = true, neg = true;
   for (int k = 0; k <= N; ++k) {
     pos = pos && p.c[k] > thr;
@@ -73,9 +90,9 @@ inline int definite_sign(const Bern<N>& p, double thr) {
 // de Casteljau at 1/2. Each average (x + y) * 0.5 rounds once (the halving is exact, barring
 // underflow, covered by kTiny); N levels, every intermediate bounded by max |c|, so the
 // error bound grows by N u max|c| (taken twice to cover the rounding of the bound itself).
-template <int N>
-inline double split_half(const Bern<N>& p, double err, Bern<N>& l, Bern<N>& r) {
-  double t[N + 1];
+template <int N, class T>
+inline T split_half(const Bern<N, T>& p, T err, Bern<N, T>& l, Bern<N, T>& r) {
+  T t[N + 1];
   for (int k = 0; k <= N; ++k) t[k] = p.c[k];
   l.c[0] = t[0];
   r.c[N] = t[N];
@@ -84,58 +101,63 @@ inline double split_half(const Bern<N>& p, double err, Bern<N>& l, Bern<N>& r) {
     l.c[k] = t[0];
     r.c[N - k] = t[N - k];
   }
-  return err + 2 * N * kU * maxabs(p) + kTiny;
+  return err + 2 * N * unit_roundoff<T>() * maxabs(p) + T(kTiny);
 }
 
 // Quadratic vector b0 (1-t)^2 + 2 b1 t (1-t) + b2 t^2 = a(t) x b(t) for linear a, b.
+template <class T>
 struct QuadV {
-  V q[3];
+  V3<T> q[3];
 };
-inline QuadV quad_cross(V a0, V a1, V b0, V b1) {
-  return {{cross(a0, b0), (cross(a0, b1) + cross(a1, b0)) * 0.5, cross(a1, b1)}};
+template <class T>
+inline QuadV<T> quad_cross(V3<T> a0, V3<T> a1, V3<T> b0, V3<T> b1) {
+  return {{cross(a0, b0), (cross(a0, b1) + cross(a1, b0)) * T(0.5), cross(a1, b1)}};
 }
 // Quartic n(t) . m(t) for quadratic vectors n, m.
-inline Bern<4> quartic(const QuadV& n, const QuadV& m) {
-  Bern<4> g;
+template <class T>
+inline Bern<4, T> quartic(const QuadV<T>& n, const QuadV<T>& m) {
+  Bern<4, T> g;
   g.c[0] = dot(n.q[0], m.q[0]);
-  g.c[1] = (dot(n.q[0], m.q[1]) + dot(n.q[1], m.q[0])) * 0.5;
-  g.c[2] = (dot(n.q[0], m.q[2]) + 4.0 * dot(n.q[1], m.q[1]) + dot(n.q[2], m.q[0])) / 6.0;
-  g.c[3] = (dot(n.q[1], m.q[2]) + dot(n.q[2], m.q[1])) * 0.5;
+  g.c[1] = (dot(n.q[0], m.q[1]) + dot(n.q[1], m.q[0])) * T(0.5);
+  g.c[2] = (dot(n.q[0], m.q[2]) + T(4) * dot(n.q[1], m.q[1]) + dot(n.q[2], m.q[0])) / T(6);
+  g.c[3] = (dot(n.q[1], m.q[2]) + dot(n.q[2], m.q[1])) * T(0.5);
   g.c[4] = dot(n.q[2], m.q[2]);
   return g;
 }
 // Cubic a(t) . q(t) for linear a and quadratic q = (q0, q1, q2); `q1x2` = 2 q1.
-inline Bern<3> cubic(V a0, V a1, V q0, V q1x2, V q2) {
-  Bern<3> f;
+template <class T>
+inline Bern<3, T> cubic(V3<T> a0, V3<T> a1, V3<T> q0, V3<T> q1x2, V3<T> q2) {
+  Bern<3, T> f;
   f.c[0] = dot(a0, q0);
-  f.c[1] = (dot(a0, q1x2) + dot(a1, q0)) / 3.0;
-  f.c[2] = (dot(a0, q2) + dot(a1, q1x2)) / 3.0;
+  f.c[1] = (dot(a0, q1x2) + dot(a1, q0)) / T(3);
+  f.c[2] = (dot(a0, q2) + dot(a1, q1x2)) / T(3);
   f.c[3] = dot(a1, q2);
   return f;
 }
 
 // The query after loading: points at t = 0 (s) and t = 1 (e), scaled by a power of two so
 // that the largest coordinate lies in [2^-60, 2^60]; `d` the scaled minimum distance.
+template <class T>
 struct Setup {
+  using V = V3<T>;
   CcdKind kind;
   V s[4], e[4];
-  double d = 0;
-  // Stage (b)
-  V X00, X01, X10, X11;  // VF: B x C pieces; EE: da x db pieces
+  T d = 0;
+  V X00, X01, X10, X11;      // VF: B x C at (t0|t1) x (t0|t1); EE: da x db
   V A0, A1, B0, B1, C0, C1;  // VF: a-p, b-p, c-p; EE: da, db, w
-  double alpha = 0, beta = 0, gamma = 0;
-  Bern<3> f;
-  double ef = 0;   // error bound of f
-  double dN = 0;   // d * (bound on |n(t)| or |e(t)|)
+  T alpha = 0, beta = 0, gamma = 0;
+  Bern<3, T> f;
+  T ef = 0;  // error bound of f
+  T dN = 0;  // d * (bound on |n(t)| or |e(t)|)
 };
 
 enum class Load { Ok, AllZero, Unsafe };
 
-Load load(const CcdPoints& p, double min_distance, Setup& S) {
+Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
   double mx = 0;
   for (int i = 0; i < 4; ++i) {
-    S.s[i] = from(p.start[i]);
-    S.e[i] = from(p.end[i]);
+    S.s[i] = {p.start[i].x(), p.start[i].y(), p.start[i].z()};
+    S.e[i] = {p.end[i].x(), p.end[i].y(), p.end[i].z()};
     mx = std::max(mx, std::max(amax(S.s[i]), amax(S.e[i])));
   }
   S.d = min_distance;
@@ -150,7 +172,7 @@ Load load(const CcdPoints& p, double min_distance, Setup& S) {
   };
   bool exact = true;
   for (int i = 0; i < 4; ++i)
-    for (V* v : {&S.s[i], &S.e[i]}) exact = scale(v->x) && scale(v->y) && scale(v->z) && exact;
+    for (V3<double>* v : {&S.s[i], &S.e[i]}) exact = scale(v->x) && scale(v->y) && scale(v->z) && exact;
   if (!exact) return Load::Unsafe;
   if (min_distance > 0) S.d = std::nextafter(std::ldexp(min_distance, -ex), HUGE_VAL);
   return Load::Ok;
@@ -160,9 +182,11 @@ Load load(const CcdPoints& p, double min_distance, Setup& S) {
 //   VF: f(t) = det(a - p, b - p, c - p) (A, B, C), zero iff the four points are coplanar.
 //   EE: f(t) = det(da, db, w), da = a1 - a0, db = b1 - b0, w = b0 - a0.
 // Error: 6 products of three differences per determinant, at most 9 roundings: |err| <=
-// gamma_9 * 6 alpha beta gamma < kCubicErr alpha beta gamma (alpha, beta, gamma: largest
+// gamma_9 * 6 alpha beta gamma < 96 u alpha beta gamma (alpha, beta, gamma: largest
 // absolute coordinate of the three difference vectors at t = 0 and 1).
-void coplanarity(Setup& S) {
+template <class T>
+void coplanarity(Setup<T>& S) {
+  constexpr T u = unit_roundoff<T>();
   if (S.kind == CcdKind::VertexFace) {
     S.A0 = S.s[1] - S.s[0], S.A1 = S.e[1] - S.e[0];
     S.B0 = S.s[2] - S.s[0], S.B1 = S.e[2] - S.e[0];
@@ -177,17 +201,16 @@ void coplanarity(Setup& S) {
   S.alpha = std::max(amax(S.A0), amax(S.A1));
   S.beta = std::max(amax(S.B0), amax(S.B1));
   S.gamma = std::max(amax(S.C0), amax(S.C1));
-  const V a0 = S.kind == CcdKind::VertexFace ? S.A0 : S.C0;
-  const V a1 = S.kind == CcdKind::VertexFace ? S.A1 : S.C1;
+  const V3<T> a0 = S.kind == CcdKind::VertexFace ? S.A0 : S.C0;
+  const V3<T> a1 = S.kind == CcdKind::VertexFace ? S.A1 : S.C1;
   S.f = cubic(a0, a1, S.X00, S.X01 + S.X10, S.X11);
-  S.ef = kCubicErr * (S.alpha * S.beta * S.gamma) + kTiny;
+  S.ef = T(96) * u * (S.alpha * S.beta * S.gamma) + T(kTiny);
   S.dN = 0;
   if (S.d > 0) {
     // |n(t)| <= |BxC| + |CxA| + |AxB| <= 3 (bg + ga + ab) (VF); |e(t)| <= 3 ab (EE).
-    const double nmax = S.kind == CcdKind::VertexFace
-                            ? 3 * (S.beta * S.gamma + S.gamma * S.alpha + S.alpha * S.beta)
-                            : 3 * S.alpha * S.beta;
-    S.dN = S.d * nmax * (1 + 16 * kU);
+    const T nmax = S.kind == CcdKind::VertexFace ? 3 * (S.beta * S.gamma + S.gamma * S.alpha + S.alpha * S.beta)
+                                                 : 3 * S.alpha * S.beta;
+    S.dN = S.d * nmax * (1 + 16 * u);
   }
 }
 
@@ -200,42 +223,44 @@ void coplanarity(Setup& S) {
 //      time implies contact.
 //   EE: e = da x db; g = (w x db).e, -((b0 - a1) x db).e, (w x da).e, (da x (b1 - a0)).e; if the
 //      segments meet at a0 + s da = b0 + r db these are s|e|^2, (1-s)|e|^2, r|e|^2, (1-r)|e|^2.
+// Pieces are dyadic intervals [lo, hi] of [0, 1], exact in T.
+template <class T>
 struct Piece {
-  double lo, hi;
+  T lo, hi;
   int depth;
-  Bern<3> f;
-  double ef;
-  Bern<4> g[4];
-  double eg[4];
+  Bern<3, T> f;
+  T ef;
+  Bern<4, T> g[4];
+  T eg[4];
 };
 
-inline V vabs(V a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
-// The magnitude expression of a cross product: the same products, all added.
-inline V across(V a, V b) { return {a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x}; }
-inline QuadV quad_across(V a0, V a1, V b0, V b1) {
+template <class T>
+inline QuadV<T> quad_across(V3<T> a0, V3<T> a1, V3<T> b0, V3<T> b1) {
   a0 = vabs(a0), a1 = vabs(a1), b0 = vabs(b0), b1 = vabs(b1);
-  return {{across(a0, b0), (across(a0, b1) + across(a1, b0)) * 0.5, across(a1, b1)}};
+  return {{across(a0, b0), (across(a0, b1) + across(a1, b0)) * T(0.5), across(a1, b1)}};
 }
-template <int N>
-inline double error_bound(const Bern<N>& magnitude, double k) {
-  return k * kU * maxabs(magnitude) + kTiny;
+template <int N, class T>
+inline T error_bound(const Bern<N, T>& magnitude, int k) {
+  return T(k) * unit_roundoff<T>() * maxabs(magnitude) + T(kTiny);
 }
 
 // Computes the inside functions on [0, 1] and, for every polynomial of stage (c) (the cubic
 // included), an error bound from its magnitude expression: gamma_k times the same expression
 // on absolute values (k roundings at most: 9 for the cubic, 12 for the quartics; we take
 // 16 u and 20 u, which also covers the rounding of the magnitudes themselves).
-int setup_inside(const Setup& S, Piece& P) {
-  QuadV aX;
+template <class T>
+int setup_inside(const Setup<T>& S, Piece<T>& P) {
+  using V = V3<T>;
+  QuadV<T> aX;
   int ng;
   if (S.kind == CcdKind::VertexFace) {
-    const QuadV X{{S.X00, (S.X01 + S.X10) * 0.5, S.X11}};
-    const QuadV Y = quad_cross(S.C0, S.C1, S.A0, S.A1);
-    const QuadV Z = quad_cross(S.A0, S.A1, S.B0, S.B1);
+    const QuadV<T> X{{S.X00, (S.X01 + S.X10) * T(0.5), S.X11}};
+    const QuadV<T> Y = quad_cross(S.C0, S.C1, S.A0, S.A1);
+    const QuadV<T> Z = quad_cross(S.A0, S.A1, S.B0, S.B1);
     aX = quad_across(S.B0, S.B1, S.C0, S.C1);
-    const QuadV aY = quad_across(S.C0, S.C1, S.A0, S.A1);
-    const QuadV aZ = quad_across(S.A0, S.A1, S.B0, S.B1);
-    QuadV n, an;
+    const QuadV<T> aY = quad_across(S.C0, S.C1, S.A0, S.A1);
+    const QuadV<T> aZ = quad_across(S.A0, S.A1, S.B0, S.B1);
+    QuadV<T> n, an;
     for (int k = 0; k < 3; ++k) n.q[k] = X.q[k] + Y.q[k] + Z.q[k], an.q[k] = aX.q[k] + aY.q[k] + aZ.q[k];
     P.g[0] = quartic(n, X);
     P.g[1] = quartic(n, Y);
@@ -248,11 +273,11 @@ int setup_inside(const Setup& S, Piece& P) {
     const V da0 = S.A0, da1 = S.A1, db0 = S.B0, db1 = S.B1, w0 = S.C0, w1 = S.C1;
     const V v0 = S.s[2] - S.s[1], v1 = S.e[2] - S.e[1];  // b0 - a1
     const V z0 = S.s[3] - S.s[0], z1 = S.e[3] - S.e[0];  // b1 - a0
-    const QuadV e{{S.X00, (S.X01 + S.X10) * 0.5, S.X11}};
+    const QuadV<T> e{{S.X00, (S.X01 + S.X10) * T(0.5), S.X11}};
     aX = quad_across(da0, da1, db0, db1);
     P.g[0] = quartic(e, quad_cross(w0, w1, db0, db1));
     P.g[1] = quartic(e, quad_cross(v0, v1, db0, db1));
-    for (double& c : P.g[1].c) c = -c;
+    for (T& c : P.g[1].c) c = -c;
     P.g[2] = quartic(e, quad_cross(w0, w1, da0, da1));
     P.g[3] = quartic(e, quad_cross(da0, da1, z0, z1));
     P.eg[0] = error_bound(quartic(aX, quad_across(w0, w1, db0, db1)), 20);
@@ -264,36 +289,39 @@ int setup_inside(const Setup& S, Piece& P) {
   // The cubic: a(t) . X(t) with a = A (VF) or w (EE).
   const V a0 = vabs(S.kind == CcdKind::VertexFace ? S.A0 : S.C0);
   const V a1 = vabs(S.kind == CcdKind::VertexFace ? S.A1 : S.C1);
-  P.ef = std::min(P.ef, error_bound(cubic(a0, a1, aX.q[0], aX.q[1] * 2.0, aX.q[2]), 16));
+  P.ef = std::min(S.ef, error_bound(cubic(a0, a1, aX.q[0], aX.q[1] * T(2), aX.q[2]), 16));
   return ng;
 }
 
-// Closest point to p on segment [a, b] (any point is fine for soundness; NaN-free).
-inline V closest_on_segment(V p, V a, V b) {
-  const V ab = b - a;
-  const double den = dot(ab, ab);
+// Closest point to p on segment [a, b] (any point is fine for soundness).
+template <class T>
+inline V3<T> closest_on_segment(V3<T> p, V3<T> a, V3<T> b) {
+  const V3<T> ab = b - a;
+  const T den = dot(ab, ab);
   if (!(den > 0)) return a;
-  double t = dot(p - a, ab) / den;
-  t = std::clamp(t, 0.0, 1.0);
+  const T t = std::clamp(dot(p - a, ab) / den, T(0), T(1));
   return a + ab * t;
 }
 
-inline double dist2(V a, V b) { return dot(a - b, a - b); }
+template <class T>
+inline T dist2(V3<T> a, V3<T> b) { return dot(a - b, a - b); }
 
 // A separating direction at time t: from the closest point of the face / edge a to p / edge b.
-V separating_direction(const Setup& S, double t) {
+template <class T>
+V3<T> separating_direction(const Setup<T>& S, T t) {
+  using V = V3<T>;
   V P[4];
   for (int i = 0; i < 4; ++i) P[i] = lerp(S.s[i], S.e[i], t);
   if (S.kind == CcdKind::VertexFace) {
     const V p = P[0], a = P[1], b = P[2], c = P[3];
     V best = closest_on_segment(p, a, b);
-    double bd = dist2(p, best);
+    T bd = dist2(p, best);
     for (V q : {closest_on_segment(p, b, c), closest_on_segment(p, c, a)}) {
-      const double dq = dist2(p, q);
+      const T dq = dist2(p, q);
       if (dq < bd) bd = dq, best = q;
     }
     const V n = cross(b - a, c - a);
-    const double nn = dot(n, n);
+    const T nn = dot(n, n);
     if (nn > 0) {
       const V q = p - n * (dot(p - a, n) / nn);
       if (dot(n, cross(b - q, c - q)) >= 0 && dot(n, cross(c - q, a - q)) >= 0 && dot(n, cross(a - q, b - q)) >= 0 &&
@@ -305,28 +333,28 @@ V separating_direction(const Setup& S, double t) {
   // Closest points of segments [a0, a1] and [b0, b1] (clamped; degenerate cases tolerated).
   const V a0 = P[0], a1 = P[1], b0 = P[2], b1 = P[3];
   const V d1 = a1 - a0, d2 = b1 - b0, r = a0 - b0;
-  const double A = dot(d1, d1), E = dot(d2, d2), F = dot(d2, r);
-  double s = 0, u = 0;
+  const T A = dot(d1, d1), E = dot(d2, d2), F = dot(d2, r);
+  T s = 0, w = 0;
   if (!(A > 0) && !(E > 0)) {
-    s = u = 0;
+    s = w = 0;
   } else if (!(A > 0)) {
-    u = std::clamp(F / E, 0.0, 1.0);
+    w = std::clamp(F / E, T(0), T(1));
   } else {
-    const double c = dot(d1, r);
+    const T c = dot(d1, r);
     if (!(E > 0)) {
-      s = std::clamp(-c / A, 0.0, 1.0);
+      s = std::clamp(-c / A, T(0), T(1));
     } else {
-      const double b = dot(d1, d2), den = A * E - b * b;
-      s = den > 0 ? std::clamp((b * F - c * E) / den, 0.0, 1.0) : 0.0;
-      u = (b * s + F) / E;
-      if (u < 0) {
-        u = 0, s = std::clamp(-c / A, 0.0, 1.0);
-      } else if (u > 1) {
-        u = 1, s = std::clamp((b - c) / A, 0.0, 1.0);
+      const T b = dot(d1, d2), den = A * E - b * b;
+      s = den > 0 ? std::clamp((b * F - c * E) / den, T(0), T(1)) : T(0);
+      w = (b * s + F) / E;
+      if (w < 0) {
+        w = 0, s = std::clamp(-c / A, T(0), T(1));
+      } else if (w > 1) {
+        w = 1, s = std::clamp((b - c) / A, T(0), T(1));
       }
     }
   }
-  return (b0 + d2 * u) - (a0 + d1 * s);
+  return (b0 + d2 * w) - (a0 + d1 * s);
 }
 
 // Separation over [lo, hi] along w: for every pair (x, y) of a corner x of the second and y
@@ -334,22 +362,25 @@ V separating_direction(const Setup& S, double t) {
 // w.(x(t) - y(t)) > d |w| (or, for every pair, < -d |w|). Each is linear in t:
 // h(t) = (1-t) h0 + t h1 with h0, h1 computed to within 6 u |w|.|diff|; the bound at lo
 // and hi is checked with a 4 u margin for the interpolation.
-bool separated_along(const Setup& S, V w, double lo, double hi) {
-  const double ww = dot(w, w);
+template <class T>
+bool separated_along(const Setup<T>& S, V3<T> w, T lo, T hi) {
+  using V = V3<T>;
+  constexpr T u = unit_roundoff<T>();
+  const T ww = dot(w, w);
   if (!(ww > 0) || !std::isfinite(ww)) return false;
-  const double margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * kU) : 0.0;
+  const T margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * u) : T(0);
   bool pos = true, neg = true;
   auto check = [&](V x0, V x1, V y0, V y1) {
     const V D0 = x0 - y0, D1 = x1 - y1;
-    const double h0 = dot(w, D0), h1 = dot(w, D1);
-    const double e0 = 6 * kU * absdot(w, D0) + kTiny, e1 = 6 * kU * absdot(w, D1) + kTiny;
-    const double slack = 4 * kU * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + kTiny + margin;
+    const T h0 = dot(w, D0), h1 = dot(w, D1);
+    const T e0 = 6 * u * absdot(w, D0) + T(kTiny), e1 = 6 * u * absdot(w, D1) + T(kTiny);
+    const T slack = 4 * u * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + T(kTiny) + margin;
     if (pos) {
-      const double l0 = h0 - e0, l1 = h1 - e1;
+      const T l0 = h0 - e0, l1 = h1 - e1;
       pos = l0 + lo * (l1 - l0) > slack && l0 + hi * (l1 - l0) > slack;
     }
     if (neg) {
-      const double u0 = h0 + e0, u1 = h1 + e1;
+      const T u0 = h0 + e0, u1 = h1 + e1;
       neg = u0 + lo * (u1 - u0) < -slack && u0 + hi * (u1 - u0) < -slack;
     }
     return pos || neg;
@@ -368,9 +399,11 @@ bool separated_along(const Setup& S, V w, double lo, double hi) {
 // Candidate separating directions at the middle of the piece: the closest-point direction,
 // then the separating axes of the two convex primitives (VF: the face normal and its three
 // in-plane edge normals; EE: da x db and its in-plane normals to each edge). Any direction
-// is sound: the test itself is rigorous; good directions only make it succeed.
-bool separated(const Setup& S, double lo, double hi) {
-  const double t = 0.5 * (lo + hi);
+// is sound: the test itself is rigorous; good directions only make it succeed sooner.
+template <class T>
+bool separated(const Setup<T>& S, T lo, T hi) {
+  using V = V3<T>;
+  const T t = (lo + hi) / 2;
   if (separated_along(S, separating_direction(S, t), lo, hi)) return true;
   // Relative coordinates (origin at point 0) keep the rounding of the axes relative to u.
   V R[4];
@@ -390,11 +423,12 @@ bool separated(const Setup& S, double lo, double hi) {
 // The earliest point of [lo, hi] where the cubic may vanish, given that it certainly does
 // vanish in [lo, hi] (opposite certain signs at the ends): bisect, keeping the left half
 // unless the cubic is certainly nonzero on it.
-double refine_toi(Bern<3> f, double ef, double lo, double hi, int depth) {
-  while (depth < kCcdToiDepth) {
-    Bern<3> l, r;
-    const double e = split_half(f, ef, l, r);
-    const double mid = 0.5 * (lo + hi);
+template <class T>
+T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth) {
+  while (depth < max_depth) {
+    Bern<3, T> l, r;
+    const T e = split_half(f, ef, l, r);
+    const T mid = (lo + hi) / 2;
     if (definite_sign(l, e) != 0) {
       f = r;
       lo = mid;
@@ -408,21 +442,29 @@ double refine_toi(Bern<3> f, double ef, double lo, double hi, int depth) {
   return lo;
 }
 
-bool search(const Setup& S, double& toi, CcdCounters* counters) {
-  Piece stack[kCcdMaxDepth + 4];
+enum class Outcome { Miss, Hit, Undecided };
+
+// Depth-first search over dyadic time pieces, earliest first. A piece is cleared when the
+// cubic is certainly nonzero on it, or (d = 0) some inside function is certainly negative,
+// or a separating direction holds over it. A piece is a certified hit when the cubic
+// certainly changes sign over it and every inside function is certainly positive.
+// Undecided pieces are halved down to max_depth; the first undecided one at max_depth (or
+// when the piece budget is spent) ends the search as Undecided with toi = its start.
+template <class T>
+Outcome search(const Setup<T>& S, int max_depth, int budget, T& toi) {
+  Piece<T> stack[kCcdMaxDepthLong + 4];
   int top = 0;
-  Piece& root = stack[top++];
-  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f, root.ef = S.ef;
+  Piece<T>& root = stack[top++];
+  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
   const int ng = setup_inside(S, root);
-  if (definite_sign(root.f, root.ef + S.dN) != 0) return false;  // the tighter bound decides
   const bool use_inside = !(S.d > 0);
   int pieces = 0;
   while (top > 0) {
-    const Piece P = stack[--top];
+    const Piece<T> P = stack[--top];
     ++pieces;
 #ifdef MCCD_CCD_TRACE
-    std::fprintf(stderr, "piece [%.17g, %.17g] d%d f=(%g %g %g %g) ef=%g\n", P.lo, P.hi, P.depth, P.f.c[0], P.f.c[1], P.f.c[2], P.f.c[3], P.ef);
-    for (int i = 0; i < ng; ++i) std::fprintf(stderr, "   g%d=(%g %g %g %g %g) eg=%g\n", i, P.g[i].c[0], P.g[i].c[1], P.g[i].c[2], P.g[i].c[3], P.g[i].c[4], P.eg[i]);
+    std::fprintf(stderr, "piece [%.17g, %.17g] d%d f=(%g %g %g %g) ef=%g\n", double(P.lo), double(P.hi), P.depth, double(P.f.c[0]), double(P.f.c[1]), double(P.f.c[2]), double(P.f.c[3]), double(P.ef));
+    for (int i = 0; i < ng; ++i) std::fprintf(stderr, "   g%d=(%g %g %g %g %g) eg=%g\n", i, double(P.g[i].c[0]), double(P.g[i].c[1]), double(P.g[i].c[2]), double(P.g[i].c[3]), double(P.g[i].c[4]), double(P.eg[i]));
 #endif
     if (definite_sign(P.f, P.ef + S.dN) != 0) continue;
     bool excluded = false, all_positive = true;
@@ -435,27 +477,32 @@ bool search(const Setup& S, double& toi, CcdCounters* counters) {
     // Certified contact: a sign change of f (a coplanar time in the piece) with every g > 0.
     const bool s0 = P.f.c[0] > P.ef, n0 = P.f.c[0] < -P.ef, s3 = P.f.c[3] > P.ef, n3 = P.f.c[3] < -P.ef;
     if (all_positive && ((s0 && n3) || (n0 && s3))) {
-      toi = S.d > 0 ? P.lo : refine_toi(P.f, P.ef, P.lo, P.hi, P.depth);
-      if (counters) ++counters->hits;
-      return true;
+      // With d > 0 the first time within d may precede the coplanar time: keep lo.
+      toi = S.d > 0 ? P.lo : refine_toi(P.f, P.ef, P.lo, P.hi, P.depth, max_depth + 8);
+      return Outcome::Hit;
     }
     if (separated(S, P.lo, P.hi)) continue;
-    if (P.depth >= kCcdMaxDepth || pieces >= kCcdPieceBudget) {
-      // Undecided: report conservatively. Every earlier piece was cleared, so lo is never
-      // later than the first contact.
+    if (P.depth >= max_depth || pieces >= budget) {
+      // Every earlier piece was cleared, so lo is never later than the first contact.
       toi = P.lo;
-      if (counters) ++counters->fallbacks, ++counters->hits;
-      return true;
+      return Outcome::Undecided;
     }
-    Piece& R = stack[top++];
-    Piece& L = stack[top++];
-    const double mid = 0.5 * (P.lo + P.hi);
+    Piece<T>& R = stack[top++];
+    Piece<T>& L = stack[top++];
+    const T mid = (P.lo + P.hi) / 2;
     L.lo = P.lo, L.hi = mid, R.lo = mid, R.hi = P.hi;
     L.depth = R.depth = P.depth + 1;
     L.ef = R.ef = split_half(P.f, P.ef, L.f, R.f);
     for (int i = 0; i < ng; ++i) L.eg[i] = R.eg[i] = split_half(P.g[i], P.eg[i], L.g[i], R.g[i]);
   }
-  return false;
+  return Outcome::Miss;
+}
+
+// Largest double <= x.
+inline double round_down(long double x) {
+  double r = static_cast<double>(x);
+  if (static_cast<long double>(r) > x) r = std::nextafter(r, -HUGE_VAL);
+  return r;
 }
 
 }  // namespace
@@ -482,7 +529,7 @@ bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {
 }
 
 bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance) {
-  Setup S;
+  Setup<double> S;
   S.kind = kind;
   if (load(p, min_distance, S) != Load::Ok) return true;
   coplanarity(S);
@@ -496,7 +543,7 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     if (counters) ++counters->box_culled;
     return false;
   }
-  Setup S;
+  Setup<double> S;
   S.kind = kind;
   switch (load(p, d, S)) {
     case Load::Ok:
@@ -516,7 +563,30 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     return false;
   }
   if (counters) ++counters->root_tests;
-  return search(S, toi, counters);
+  double t = 0;
+  Outcome r = search(S, kCcdMaxDepth, kCcdPieceBudget, t);
+  if (r == Outcome::Undecided) {
+    // Second pass in extended precision (where long double is wider than double): the same
+    // search with error bounds about 2^11 times smaller.
+    if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
+      if (counters) ++counters->fallbacks;
+      Setup<long double> L;
+      L.kind = kind;
+      L.d = S.d;
+      for (int i = 0; i < 4; ++i) {
+        L.s[i] = {S.s[i].x, S.s[i].y, S.s[i].z};
+        L.e[i] = {S.e[i].x, S.e[i].y, S.e[i].z};
+      }
+      coplanarity(L);
+      long double tl = 0;
+      r = search(L, kCcdMaxDepthLong, kCcdPieceBudgetLong, tl);
+      if (r != Outcome::Miss) t = round_down(tl);
+    }
+  }
+  if (r == Outcome::Miss) return false;
+  toi = t;
+  if (counters) ++counters->hits;
+  return true;
 }
 
 }  // namespace detail

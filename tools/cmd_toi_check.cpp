@@ -122,9 +122,12 @@ int toi_check(const std::vector<std::string>& args) {
   const KindReport vf = report("vertex-face", listed_vf, vf_true, got_vf);
   const KindReport ee = report("edge-edge  ", listed_ee, ee_true, got_ee);
   const StepStats& s = r.stats;
-  std::printf("  volume tests %llu, VF elementary tests %llu, EE elementary tests %llu, feature box tests %llu\n",
-              (unsigned long long)s.volume_tests, (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests,
+  std::printf("  volume tests %llu (overlapping non-adjacent leaf pairs %llu), feature box tests %llu\n",
+              (unsigned long long)s.volume_tests, (unsigned long long)s.leaf_pairs,
               (unsigned long long)s.feature_box_tests);
+  std::printf("  elementary tests called: VF %llu, EE %llu; past their box and coplanarity filters: VF %llu, EE %llu\n",
+              (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests, (unsigned long long)s.vf_root_tests,
+              (unsigned long long)s.ee_root_tests);
   std::printf("  front %llu nodes, orphan set %zu VF + %zu EE (tested %llu + %llu); earliest toi %.9g\n",
               (unsigned long long)s.front_size, scene.orphan_vf_count(), scene.orphan_ee_count(),
               (unsigned long long)s.orphan_vf_tested, (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
