@@ -264,14 +264,20 @@ class Engine {
   /// volume test and elementary tests as the other methods.
   void brute_force(WorkerOutput& out) const {
     const auto& topo = g_.topo;
-    // VF: faces sorted by lower bound; vertices scanned against the faces whose slab-0
-    // interval can reach them.
+    // sweep along the slab where the scene is widest (fewest overlapping intervals)
+    int ax = 0;
+    if (bvh_.size() > 0) {
+      float best = -1;
+      for (int k = 0; k < 3; ++k)
+        if (volumes_[0].hi[k] - volumes_[0].lo[k] > best) best = volumes_[0].hi[k] - volumes_[0].lo[k], ax = k;
+    }
+    // VF: faces sorted by lower bound; each vertex scans the faces whose interval can reach it.
     std::vector<std::pair<double, std::uint32_t>> faces(topo.num_faces());
-    double max_face_extent = 0;  // the widest face along slab 0
+    double max_face_extent = 0;  // the widest face along the sweep axis
     for (std::uint32_t f = 0; f < faces.size(); ++f) {
       const BV& vf = volumes_[bvh_.leaf_of(f)];
-      faces[f] = {vf.lo[0], f};
-      max_face_extent = std::max(max_face_extent, double(vf.hi[0]) - double(vf.lo[0]));
+      faces[f] = {vf.lo[ax], f};
+      max_face_extent = std::max(max_face_extent, double(vf.hi[ax]) - double(vf.lo[ax]));
     }
     std::sort(faces.begin(), faces.end());
     for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
@@ -279,9 +285,9 @@ class Engine {
       const BV& vv = vertex_volumes_[v];
       // A face reaching the vertex has lo <= vv.hi and lo >= vv.lo - extent; the margin only
       // widens the scan (the full volume test decides).
-      const double key = double(vv.lo[0]) - max_face_extent * (1 + 1e-6) - 1e-30;
+      const double key = double(vv.lo[ax]) - max_face_extent * (1 + 1e-6) - 1e-30;
       auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, 0u));
-      for (; it != faces.end() && it->first <= double(vv.hi[0]); ++it) {
+      for (; it != faces.end() && it->first <= double(vv.hi[ax]); ++it) {
         const std::uint32_t f = it->second;
         const Triangle& t = topo.faces()[f];
         if (t[0] == v || t[1] == v || t[2] == v) continue;
@@ -295,13 +301,13 @@ class Engine {
     std::vector<BV> ev(topo.num_edges());
     for (std::uint32_t e = 0; e < edges.size(); ++e) {
       ev[e] = edge_volume(e);
-      edges[e] = {ev[e].lo[0], e};
+      edges[e] = {ev[e].lo[ax], e};
     }
     std::sort(edges.begin(), edges.end());
     for (std::size_t i = 0; i < edges.size(); ++i) {
       const std::uint32_t a = edges[i].second;
       const Edge& ea = topo.edges()[a];
-      for (std::size_t j = i + 1; j < edges.size() && edges[j].first <= ev[a].hi[0]; ++j) {
+      for (std::size_t j = i + 1; j < edges.size() && edges[j].first <= ev[a].hi[ax]; ++j) {
         const std::uint32_t b = edges[j].second;
         const Edge& eb = topo.edges()[b];
         if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;

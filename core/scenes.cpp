@@ -79,14 +79,14 @@ AnimatedScene make_random_triangles(int count, int frames, unsigned seed) {
   m.name = "triangles";
   m.vertices.resize(3 * count, 3);
   // box side chosen so triangles (size ~ box / count^(1/3) * 1.5) meet often
-  const double side = 1.0, size = 1.5 * side / std::cbrt(double(count));
+  const double side = 1.0, size = 0.6 * side / std::cbrt(double(count));
   std::vector<Vec3> vel(3 * count);
   for (int t = 0; t < count; ++t) {
     const Vec3 c(U(rng), U(rng), U(rng));
     const Vec3 v(U(rng), U(rng), U(rng));
     for (int k = 0; k < 3; ++k) {
       m.vertices.row(3 * t + k) = (side * c + size * Vec3(U(rng), U(rng), U(rng))).transpose();
-      vel[3 * t + k] = 0.02 * v + 0.2 * size * Vec3(U(rng), U(rng), U(rng));
+      vel[3 * t + k] = 0.01 * v + 0.05 * size * Vec3(U(rng), U(rng), U(rng));
     }
     m.faces.push_back({std::uint32_t(3 * t), std::uint32_t(3 * t + 1), std::uint32_t(3 * t + 2)});
   }
@@ -97,7 +97,7 @@ AnimatedScene make_random_triangles(int count, int frames, unsigned seed) {
     for (Eigen::Index v = 0; v < p.rows(); ++v) {
       p.row(v) += vel[v].transpose();
       for (int c = 0; c < 3; ++c)  // bounce off the box walls
-        if (std::abs(p(v, c)) > 1.2) vel[v][c] = -vel[v][c];
+        if (std::abs(p(v, c)) > 1.2 && p(v, c) * vel[v][c] > 0) vel[v][c] = -vel[v][c];
     }
   }
   return s;
@@ -119,7 +119,7 @@ AnimatedScene make_twisting_tube(int rings, int segments, int frames) {
   const double length = 4.0, radius = 0.25;
   for (int f = 0; f < frames; ++f) {
     const double u = double(f) / std::max(1, frames - 1);
-    const double bend = 1.2 * kPi * u;   // total bend angle along the tube: past a U
+    const double bend = 2.6 * kPi * u;   // total bend angle: the ends meet past 2 pi
     const double twist = 3 * kPi * u;    // total twist
     Positions p(nv, 3);
     for (int r = 0; r < rings; ++r) {

@@ -27,7 +27,7 @@ AnimatedScene make_folding_cloth(int n, int frames);
 AnimatedScene make_deforming_spheres(int count, int rings, int frames);
 /// `count` unconnected triangles moving randomly in a box (seeded; deterministic).
 AnimatedScene make_random_triangles(int count, int frames, unsigned seed = 1);
-/// A tube bending into a U and twisting until its ends pass through each other.
+/// A twisting tube bending into a ring and past it, until its ends pass through each other.
 AnimatedScene make_twisting_tube(int rings, int segments, int frames);
 /// By name: "cloth", "spheres", "random", "tube"; `size` scales the triangle count
 /// (roughly `size` thousand triangles). Throws mccd::Error for an unknown name.

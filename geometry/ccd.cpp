@@ -15,6 +15,7 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #ifdef MCCD_CCD_TRACE
 #include <cstdio>
 #endif
@@ -105,6 +106,26 @@ inline T split_half(const Bern<N, T>& p, T err, Bern<N, T>& l, Bern<N, T>& r) {
 }
 
 // Quadratic vector b0 (1-t)^2 + 2 b1 t (1-t) + b2 t^2 = a(t) x b(t) for linear a, b.
+// The same polynomial in Bernstein form over [lo, hi] (dyadic, so 1 - lo and 1 - hi are
+// exact): coefficient k is the blossom at (lo, ..., lo, hi, ..., hi) with k copies of hi.
+// Every lerp (1-t) a + t b rounds at most twice and stays within max |c|, so the error
+// grows by at most 2 N u max|c| (taken as 4 N u).
+template <int N, class T>
+inline T restrict_to(const Bern<N, T>& p, T err, T lo, T hi, Bern<N, T>& out) {
+  T row[N + 1];
+  for (int k = 0; k <= N; ++k) row[k] = p.c[k];
+  const T l1 = 1 - lo, h1 = 1 - hi;
+  for (int j = 0; j <= N; ++j) {
+    T tmp[N + 1];
+    for (int i = 0; i <= N - j; ++i) tmp[i] = row[i];
+    for (int level = 0; level < N - j; ++level)
+      for (int i = 0; i < N - j - level; ++i) tmp[i] = l1 * tmp[i] + lo * tmp[i + 1];
+    out.c[j] = tmp[0];
+    for (int i = 0; i < N - j; ++i) row[i] = h1 * row[i] + hi * row[i + 1];
+  }
+  return err + 4 * N * unit_roundoff<T>() * maxabs(p) + T(kTiny);
+}
+
 template <class T>
 struct QuadV {
   V3<T> q[3];
@@ -149,6 +170,9 @@ struct Setup {
   Bern<3, T> f;
   T ef = 0;  // error bound of f
   T dN = 0;  // d * (bound on |n(t)| or |e(t)|)
+  // Separation pairs x - y at t = 0 and 1 (VF: p - corner; EE: end of b - end of a).
+  int npairs = 0;
+  V D0[4], D1[4];
 };
 
 enum class Load { Ok, AllZero, Unsafe };
@@ -197,6 +221,15 @@ void coplanarity(Setup<T>& S) {
     S.B0 = S.s[3] - S.s[2], S.B1 = S.e[3] - S.e[2];  // db
     S.C0 = S.s[2] - S.s[0], S.C1 = S.e[2] - S.e[0];  // w
     S.X00 = cross(S.A0, S.B0), S.X01 = cross(S.A0, S.B1), S.X10 = cross(S.A1, S.B0), S.X11 = cross(S.A1, S.B1);
+  }
+  if (S.kind == CcdKind::VertexFace) {
+    S.npairs = 3;
+    for (int j = 0; j < 3; ++j) S.D0[j] = S.s[0] - S.s[j + 1], S.D1[j] = S.e[0] - S.e[j + 1];
+  } else {
+    S.npairs = 4;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        S.D0[2 * j + i] = S.s[2 + j] - S.s[i], S.D1[2 * j + i] = S.e[2 + j] - S.e[i];
   }
   S.alpha = std::max(amax(S.A0), amax(S.A1));
   S.beta = std::max(amax(S.B0), amax(S.B1));
@@ -370,8 +403,8 @@ bool separated_along(const Setup<T>& S, V3<T> w, T lo, T hi) {
   if (!(ww > 0) || !std::isfinite(ww)) return false;
   const T margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * u) : T(0);
   bool pos = true, neg = true;
-  auto check = [&](V x0, V x1, V y0, V y1) {
-    const V D0 = x0 - y0, D1 = x1 - y1;
+  for (int k = 0; k < S.npairs; ++k) {
+    const V D0 = S.D0[k], D1 = S.D1[k];
     const T h0 = dot(w, D0), h1 = dot(w, D1);
     const T e0 = 6 * u * absdot(w, D0) + T(kTiny), e1 = 6 * u * absdot(w, D1) + T(kTiny);
     const T slack = 4 * u * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + T(kTiny) + margin;
@@ -383,16 +416,8 @@ bool separated_along(const Setup<T>& S, V3<T> w, T lo, T hi) {
       const T u0 = h0 + e0, u1 = h1 + e1;
       neg = u0 + lo * (u1 - u0) < -slack && u0 + hi * (u1 - u0) < -slack;
     }
-    return pos || neg;
-  };
-  if (S.kind == CcdKind::VertexFace) {
-    for (int j = 1; j < 4; ++j)
-      if (!check(S.s[0], S.e[0], S.s[j], S.e[j])) return false;
-    return true;
+    if (!pos && !neg) return false;
   }
-  for (int j = 2; j < 4; ++j)
-    for (int i = 0; i < 2; ++i)
-      if (!check(S.s[j], S.e[j], S.s[i], S.e[i])) return false;
   return true;
 }
 
@@ -444,24 +469,61 @@ T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth) {
 
 enum class Outcome { Miss, Hit, Undecided };
 
+// On a piece where every inside function is certainly positive, contact happens exactly at
+// the roots of the cubic: search them alone (earliest first). Miss: the cubic is certainly
+// nonzero on the piece. Hit: a certain sign change; toi = the earliest point where the cubic
+// may vanish. Undecided: an uncertain subpiece at max_depth; toi = its start.
+template <class T>
+Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi) {
+  struct Item {
+    Bern<3, T> f;
+    T ef, lo, hi;
+    int depth;
+  };
+  Item st[kCcdMaxDepthLong + 4];
+  int top = 0;
+  st[top++] = {P.f, P.ef, P.lo, P.hi, P.depth};
+  while (top > 0) {
+    const Item I = st[--top];
+    if (definite_sign(I.f, I.ef + dN) != 0) continue;
+    const T c0 = I.f.c[0], c3 = I.f.c[3];
+    if ((c0 > I.ef && c3 < -I.ef) || (c0 < -I.ef && c3 > I.ef)) {
+      // With d > 0 the first time within d may precede the coplanar time: keep lo.
+      toi = dN > 0 ? I.lo : refine_toi(I.f, I.ef, I.lo, I.hi, I.depth, kCcdToiDepth);
+      return Outcome::Hit;
+    }
+    if (I.depth >= max_depth || --budget <= 0) {
+      toi = I.lo;
+      return Outcome::Undecided;
+    }
+    Item& R = st[top++];
+    Item& L = st[top++];
+    L.ef = R.ef = split_half(I.f, I.ef, L.f, R.f);
+    L.lo = I.lo, L.hi = R.lo = (I.lo + I.hi) / 2, R.hi = I.hi;
+    L.depth = R.depth = I.depth + 1;
+  }
+  return Outcome::Miss;
+}
+
 // Depth-first search over dyadic time pieces, earliest first. A piece is cleared when the
 // cubic is certainly nonzero on it, or (d = 0) some inside function is certainly negative,
 // or a separating direction holds over it. A piece is a certified hit when the cubic
 // certainly changes sign over it and every inside function is certainly positive.
 // Undecided pieces are halved down to max_depth; the first undecided one at max_depth (or
 // when the piece budget is spent) ends the search as Undecided with toi = its start.
+struct LongPass;
+Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
+
 template <class T>
-Outcome search(const Setup<T>& S, int max_depth, int budget, T& toi) {
+Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, int& budget, T& toi,
+               LongPass* long_pass) {
   Piece<T> stack[kCcdMaxDepthLong + 4];
   int top = 0;
-  Piece<T>& root = stack[top++];
-  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
-  const int ng = setup_inside(S, root);
+  stack[top++] = start;
   const bool use_inside = !(S.d > 0);
-  int pieces = 0;
   while (top > 0) {
     const Piece<T> P = stack[--top];
-    ++pieces;
+    --budget;
 #ifdef MCCD_CCD_TRACE
     std::fprintf(stderr, "piece [%.17g, %.17g] d%d f=(%g %g %g %g) ef=%g\n", double(P.lo), double(P.hi), P.depth, double(P.f.c[0]), double(P.f.c[1]), double(P.f.c[2]), double(P.f.c[3]), double(P.ef));
     for (int i = 0; i < ng; ++i) std::fprintf(stderr, "   g%d=(%g %g %g %g %g) eg=%g\n", i, double(P.g[i].c[0]), double(P.g[i].c[1]), double(P.g[i].c[2]), double(P.g[i].c[3]), double(P.g[i].c[4]), double(P.eg[i]));
@@ -474,15 +536,26 @@ Outcome search(const Setup<T>& S, int max_depth, int budget, T& toi) {
       all_positive = all_positive && sg > 0;
     }
     if (excluded) continue;
-    // Certified contact: a sign change of f (a coplanar time in the piece) with every g > 0.
-    const bool s0 = P.f.c[0] > P.ef, n0 = P.f.c[0] < -P.ef, s3 = P.f.c[3] > P.ef, n3 = P.f.c[3] < -P.ef;
-    if (all_positive && ((s0 && n3) || (n0 && s3))) {
-      // With d > 0 the first time within d may precede the coplanar time: keep lo.
-      toi = S.d > 0 ? P.lo : refine_toi(P.f, P.ef, P.lo, P.hi, P.depth, max_depth + 8);
-      return Outcome::Hit;
+    if (all_positive) {
+      // Every g > 0: contact exactly at the roots of the cubic in the piece.
+      Outcome r = cubic_roots(P, S.dN, max_depth, budget, toi);
+      if constexpr (std::is_same_v<T, double>) {
+        if (r == Outcome::Undecided && long_pass && budget > 0) r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
+      }
+      if (r == Outcome::Miss) continue;
+      return r;
     }
-    if (separated(S, P.lo, P.hi)) continue;
-    if (P.depth >= max_depth || pieces >= budget) {
+    // The separation test is the most expensive one: tried at every third level only.
+    if ((P.depth % 3 == 0 || P.depth >= max_depth - 1) && separated(S, P.lo, P.hi)) continue;
+    if (P.depth >= max_depth || budget <= 0) {
+      if constexpr (std::is_same_v<T, double>) {
+        // Second opinion in extended precision on this piece only.
+        if (long_pass && budget > 0) {
+          const Outcome r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
+          if (r == Outcome::Miss) continue;
+          return r;
+        }
+      }
       // Every earlier piece was cleared, so lo is never later than the first contact.
       toi = P.lo;
       return Outcome::Undecided;
@@ -503,6 +576,48 @@ inline double round_down(long double x) {
   double r = static_cast<double>(x);
   if (static_cast<long double>(r) > x) r = std::nextafter(r, -HUGE_VAL);
   return r;
+}
+
+// The extended-precision pass (where long double is wider than double): the same search,
+// with error bounds about 2^11 times smaller, on the pieces the double search left
+// undecided at its maximum depth. Its setup is built on first use.
+struct LongPass {
+  const Setup<double>* S = nullptr;
+  bool ready = false;
+  Setup<long double> L;
+  Piece<long double> root;
+  int ng = 0;
+  int budget = kCcdPieceBudgetLong;
+  CcdCounters* counters = nullptr;
+};
+
+Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi) {
+  if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
+    if (lp.counters) ++lp.counters->fallbacks;
+    if (!lp.ready) {
+      lp.L.kind = lp.S->kind;
+      lp.L.d = lp.S->d;
+      for (int i = 0; i < 4; ++i) {
+        lp.L.s[i] = {lp.S->s[i].x, lp.S->s[i].y, lp.S->s[i].z};
+        lp.L.e[i] = {lp.S->e[i].x, lp.S->e[i].y, lp.S->e[i].z};
+      }
+      coplanarity(lp.L);
+      lp.root.f = lp.L.f;
+      lp.ng = setup_inside(lp.L, lp.root);
+      lp.ready = true;
+    }
+    Piece<long double> P;
+    P.lo = lo, P.hi = hi, P.depth = depth;
+    P.ef = restrict_to(lp.root.f, lp.root.ef, P.lo, P.hi, P.f);
+    for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
+    long double t = 0;
+    const Outcome r = search(lp.L, P, lp.ng, kCcdMaxDepthLong, lp.budget, t, static_cast<LongPass*>(nullptr));
+    if (r != Outcome::Miss) toi = round_down(t);
+    return r;
+  } else {
+    toi = lo;
+    return Outcome::Undecided;
+  }
 }
 
 }  // namespace
@@ -564,25 +679,14 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   }
   if (counters) ++counters->root_tests;
   double t = 0;
-  Outcome r = search(S, kCcdMaxDepth, kCcdPieceBudget, t);
-  if (r == Outcome::Undecided) {
-    // Second pass in extended precision (where long double is wider than double): the same
-    // search with error bounds about 2^11 times smaller.
-    if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
-      if (counters) ++counters->fallbacks;
-      Setup<long double> L;
-      L.kind = kind;
-      L.d = S.d;
-      for (int i = 0; i < 4; ++i) {
-        L.s[i] = {S.s[i].x, S.s[i].y, S.s[i].z};
-        L.e[i] = {S.e[i].x, S.e[i].y, S.e[i].z};
-      }
-      coplanarity(L);
-      long double tl = 0;
-      r = search(L, kCcdMaxDepthLong, kCcdPieceBudgetLong, tl);
-      if (r != Outcome::Miss) t = round_down(tl);
-    }
-  }
+  Piece<double> root;
+  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
+  const int ng = setup_inside(S, root);
+  int budget = kCcdPieceBudget;
+  LongPass lp;
+  lp.S = &S;
+  lp.counters = counters;
+  const Outcome r = search(S, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (r == Outcome::Miss) return false;
   toi = t;
   if (counters) ++counters->hits;

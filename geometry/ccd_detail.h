@@ -19,9 +19,10 @@ bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distan
 bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters);
 
 /// Tuning constants of stage (c), documented in ccd.h.
-inline constexpr int kCcdMaxDepth = 52;          ///< double pass: pieces down to 2^-52
+inline constexpr int kCcdMaxDepth = 40;          ///< double pass: pieces down to 2^-40
 inline constexpr int kCcdPieceBudget = 400;      ///< double pass: at most this many pieces
 inline constexpr int kCcdMaxDepthLong = 64;      ///< long double pass: pieces down to 2^-64
 inline constexpr int kCcdPieceBudgetLong = 400;  ///< long double pass: at most this many pieces
+inline constexpr int kCcdToiDepth = 32;          ///< certified contacts: toi refined to 2^-32
 
 }  // namespace mccd::detail
