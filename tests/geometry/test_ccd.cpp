@@ -104,7 +104,9 @@ TEST(CcdToiClothFunnel, NoFalseNegatives) {
       if (t && hit) {
         const test::ExactResult ref = kind[0] == 'v' ? test::exact_vertex_face(qs[i].points) : test::exact_edge_edge(qs[i].points);
         EXPECT_TRUE(ref.hit) << kind << " query " << i;
-        if (ref.hit) EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << kind << " query " << i;
+        if (ref.hit) {
+          EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << kind << " query " << i;
+        }
       }
     }
     EXPECT_EQ(fn, 0);

@@ -19,11 +19,6 @@ void trim(QPoly& p) {
 int degree(const QPoly& p) { return static_cast<int>(p.c.size()) - 1; }  // -1 for zero
 bool is_zero(const QPoly& p) { return p.c.empty(); }
 
-QPoly constant(const Q& v) {
-  QPoly p{{v}};
-  trim(p);
-  return p;
-}
 QPoly linear(const Q& a0, const Q& a1) {  // a0 (1-t) + a1 t
   QPoly p{{a0, a1 - a0}};
   trim(p);

@@ -1,0 +1,112 @@
+// Runs the built `mccd run`, `mccd demo` and `mccd toi-check` end to end.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/data.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Out {
+  int status;
+  std::string text;  // stdout and stderr
+};
+
+Out run_cli(const std::string& args) {
+  const std::string cmd = mccd::test::cli_path() + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  Out o{-1, ""};
+  if (!p) return o;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) o.text.append(buf, n);
+  const int st = pclose(p);
+  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return o;
+}
+
+std::string scratch(const std::string& name) {
+  return (fs::temp_directory_path() / ("mccd_cli_run_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+}  // namespace
+
+TEST(CliToiCheck, ClothFunnelEveryMethodMissesNothing) {
+  const fs::path dir = mccd::test::data_dir() / "toi/cloth-funnel";
+  MCCD_REQUIRE_DATA(dir);
+  for (const char* m : {"bruteforce", "traverse", "front"}) {
+    Out o = run_cli("toi-check " + dir.string() + " --method " + m);
+    EXPECT_EQ(o.status, 0) << o.text;
+    EXPECT_NE(o.text.find("vertex-face: 92 listed pairs, 27 true; reported 27: found 27, missed 0"), std::string::npos) << o.text;
+    EXPECT_NE(o.text.find("edge-edge  : 263 listed pairs, 107 true"), std::string::npos) << o.text;
+    EXPECT_NE(o.text.find("OK: 0 true pairs missed"), std::string::npos) << o.text;
+  }
+}
+
+TEST(CliToiCheck, ClothBallFrontMissesNothing) {
+  const fs::path dir = mccd::test::data_dir() / "toi/cloth-ball";
+  MCCD_REQUIRE_DATA(dir);
+  Out o = run_cli("toi-check " + dir.string() + " --method front");
+  EXPECT_EQ(o.status, 0) << o.text;
+  EXPECT_NE(o.text.find("found 19032, missed 0"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("found 94822, missed 0"), std::string::npos) << o.text;
+}
+
+TEST(CliToiCheck, RefusesMissingFolder) {
+  Out o = run_cli("toi-check /nonexistent/scene");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.text.find("/nonexistent/scene"), std::string::npos) << o.text;
+}
+
+TEST(CliRun, BuiltInSceneWritesContactsCsv) {
+  const std::string csv = scratch("contacts.csv");
+  Out o = run_cli("run --scene cloth --size 1 --frames 11 --method front --contacts " + csv);
+  ASSERT_EQ(o.status, 0) << o.text;
+  EXPECT_NE(o.text.find("total over 10 steps (front)"), std::string::npos) << o.text;
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "step,kind,mesh_a,a,mesh_b,b,a_v0,a_v1,b_v0,b_v1,toi");
+  std::size_t rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_GT(rows, 0u);
+  EXPECT_FALSE(fs::exists(csv + ".tmp"));
+  fs::remove(csv);
+}
+
+TEST(CliRun, MethodsPrintTheSameContactTotals) {
+  std::string totals[3];
+  int i = 0;
+  for (const char* m : {"bruteforce", "traverse", "front"}) {
+    Out o = run_cli(std::string("run --scene spheres --size 1 --frames 9 --substeps 2 --quiet --method ") + m);
+    ASSERT_EQ(o.status, 0) << o.text;
+    const auto at = o.text.find("contacts ");
+    ASSERT_NE(at, std::string::npos);
+    totals[i++] = o.text.substr(at, o.text.find(',', at) - at);
+  }
+  EXPECT_EQ(totals[0], totals[1]);
+  EXPECT_EQ(totals[0], totals[2]);
+}
+
+TEST(CliRun, BadInputLeavesNoContactsFile) {
+  const std::string csv = scratch("never.csv");
+  Out o = run_cli("run /nonexistent/frame%03d.ply --contacts " + csv);
+  EXPECT_EQ(o.status, 2) << o.text;
+  EXPECT_FALSE(fs::exists(csv));
+  o = run_cli("run --scene cloth --method sideways");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.text.find("unknown method 'sideways'"), std::string::npos) << o.text;
+  o = run_cli("run --scene cloth --substeps 0");
+  EXPECT_EQ(o.status, 2);
+}
+
+TEST(CliDemo, RunsAndAgrees) {
+  Out o = run_cli("demo --size 2 --frames 11");
+  EXPECT_EQ(o.status, 0) << o.text;
+  EXPECT_NE(o.text.find("fewer"), std::string::npos) << o.text;
+}
