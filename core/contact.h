@@ -57,6 +57,9 @@ struct StepStats {
   std::uint64_t vf_contacts = 0;
   std::uint64_t ee_contacts = 0;
   std::uint64_t leaf_pairs = 0;        ///< non-adjacent leaf pairs whose volumes overlapped
+  /// Adjacent leaf pairs the traversal reached and skipped (their features are the orphan
+  /// set's); without the orphan set they would be front nodes (paper equation 5, B_a).
+  std::uint64_t adjacent_leaf_pairs = 0;
   std::uint64_t front_size = 0;        ///< front nodes after the step (Front only)
   std::uint64_t sprouted = 0;          ///< nodes inserted by sprouting this step (S)
   std::uint64_t invalidated = 0;       ///< front nodes that overlapped and were expanded (B)

@@ -38,7 +38,7 @@ struct RawContact {
 /// Counters of one worker (one block of the front, or one serial pass).
 struct Counters {
   std::uint64_t volume_tests = 0, feature_box_tests = 0, vf_tests = 0, ee_tests = 0, leaf_pairs = 0,
-                sprouted = 0, invalidated = 0, orphan_vf = 0, orphan_ee = 0;
+                sprouted = 0, invalidated = 0, orphan_vf = 0, orphan_ee = 0, adjacent_leaf_pairs = 0;
   CcdCounters vf_ccd, ee_ccd;  ///< per-stage counts inside the elementary tests
   void add(const Counters& o) {
     vf_ccd.root_tests += o.vf_ccd.root_tests;
@@ -48,6 +48,7 @@ struct Counters {
     vf_tests += o.vf_tests;
     ee_tests += o.ee_tests;
     leaf_pairs += o.leaf_pairs;
+    adjacent_leaf_pairs += o.adjacent_leaf_pairs;
     sprouted += o.sprouted;
     invalidated += o.invalidated;
     orphan_vf += o.orphan_vf;
@@ -85,6 +86,7 @@ class Engine {
   Engine(SceneGeometry& g, const std::vector<Vec3>& centroids) : g_(g), bvh_(centroids) {
     volumes_.resize(bvh_.size());
     vertex_volumes_.resize(g_.topo.num_vertices());
+    edge_volumes_.resize(g_.topo.num_edges());
   }
 
   const BvhTopology& bvh() const { return bvh_; }
@@ -99,6 +101,10 @@ class Engine {
       d.add_point(x1.row(static_cast<Eigen::Index>(v)).transpose());
       if (g_.ccd.min_distance > 0) d.inflate(g_.ccd.min_distance);
       vertex_volumes_[v] = d;
+    }
+    for (std::size_t e = 0; e < edge_volumes_.size(); ++e) {
+      const Edge& ed = g_.topo.edges()[e];
+      edge_volumes_[e] = BV::merged(vertex_volumes_[ed[0]], vertex_volumes_[ed[1]]);
     }
   }
 
@@ -115,10 +121,7 @@ class Engine {
     d.merge(vertex_volumes_[f[2]]);
     return d;
   }
-  BV edge_volume(std::uint32_t e) const {
-    const Edge& ed = g_.topo.edges()[e];
-    return BV::merged(vertex_volumes_[ed[0]], vertex_volumes_[ed[1]]);
-  }
+  const BV& edge_volume(std::uint32_t e) const { return edge_volumes_[e]; }
 
   // ---- elementary tests behind the feature-volume test ----
   void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
@@ -182,7 +185,10 @@ class Engine {
       const bool la = bvh_.leaf(n.a), lb = bvh_.leaf(n.b);
       if (la && lb) {
         const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
-        if (g_.topo.adjacent(s, t)) continue;
+        if (g_.topo.adjacent(s, t)) {
+          ++out.counters.adjacent_leaf_pairs;
+          continue;
+        }
         if constexpr (record) out.front.push_back(n);
         ++out.counters.volume_tests;
         if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaf_pair(s, t, out);
@@ -298,11 +304,8 @@ class Engine {
     }
     // EE: classic sweep over edges sorted by lower bound.
     std::vector<std::pair<float, std::uint32_t>> edges(topo.num_edges());
-    std::vector<BV> ev(topo.num_edges());
-    for (std::uint32_t e = 0; e < edges.size(); ++e) {
-      ev[e] = edge_volume(e);
-      edges[e] = {ev[e].lo[ax], e};
-    }
+    const std::vector<BV>& ev = edge_volumes_;
+    for (std::uint32_t e = 0; e < edges.size(); ++e) edges[e] = {ev[e].lo[ax], e};
     std::sort(edges.begin(), edges.end());
     for (std::size_t i = 0; i < edges.size(); ++i) {
       const std::uint32_t a = edges[i].second;
@@ -330,6 +333,7 @@ class Engine {
   BvhTopology bvh_;
   std::vector<BV> volumes_;         ///< one per BVH node
   std::vector<BV> vertex_volumes_;  ///< one per vertex: its swept segment
+  std::vector<BV> edge_volumes_;    ///< one per edge: merge of its two vertex volumes
 };
 
 }  // namespace mccd::detail

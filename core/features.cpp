@@ -6,6 +6,11 @@ namespace mccd {
 
 FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   const std::size_t nv = topo.num_vertices();
+  first_face_.assign(nv, 0);
+  for (std::size_t v = 0; v < nv; ++v)
+    if (topo.vertex_face_count(v)) first_face_[v] = *topo.vertex_faces_begin(v);
+  first_face_of_edge_.resize(topo.num_edges());
+  for (std::size_t e = 0; e < topo.num_edges(); ++e) first_face_of_edge_[e] = *topo.edge_faces_begin(e);
   std::vector<std::uint32_t> candidates;
   // VF: an orphan face f is adjacent to every face around v, in particular to the first one
   // (f0), so it is among the faces around f0's corners.

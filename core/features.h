@@ -27,6 +27,8 @@ class FeaturePairs {
 
   /// Whether the leaf pair (s, t) (non-adjacent) carries the VF pair (v, t), v a corner of s.
   bool carries_vf(std::uint32_t v, std::uint32_t s, std::uint32_t t) const {
+    const std::uint32_t f0 = first_face_[v];  // fast path: the first face is the carrier
+    if (!topo_->adjacent(f0, t)) return f0 == s;
     for (auto* f = topo_->vertex_faces_begin(v); f != topo_->vertex_faces_end(v); ++f)
       if (!topo_->adjacent(*f, t)) return *f == s;
     return false;
@@ -39,6 +41,8 @@ class FeaturePairs {
       std::swap(a, b);
       std::swap(s, t);
     }
+    const std::uint32_t fa = first_face_of_edge_[a], fb = first_face_of_edge_[b];
+    if (!topo_->adjacent(fa, fb)) return fa == s && fb == t;  // fast path: the first pair
     for (auto* f = topo_->edge_faces_begin(a); f != topo_->edge_faces_end(a); ++f)
       for (auto* g = topo_->edge_faces_begin(b); g != topo_->edge_faces_end(b); ++g)
         if (!topo_->adjacent(*f, *g)) return *f == s && *g == t;
@@ -52,6 +56,8 @@ class FeaturePairs {
 
  private:
   const MeshTopology* topo_ = nullptr;
+  std::vector<std::uint32_t> first_face_;          ///< lowest face around each vertex
+  std::vector<std::uint32_t> first_face_of_edge_;  ///< lowest face around each edge
   std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_vf_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_ee_;
 };

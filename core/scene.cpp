@@ -151,6 +151,7 @@ struct Scene::Impl {
       eng.template from_root<true>(o);
       collect(o);
       sort_by_first_node(o.front, front);  // BVH-node order (paper section 4.8)
+      o.front = std::vector<NodePair>();    // the unsorted copy is not kept
       front_valid = true;
       sprouted_since_build = invalidated_since_build = 0;
       st.rebuilds = 1;
@@ -197,6 +198,7 @@ struct Scene::Impl {
     st.vf_tests = total.vf_tests;
     st.ee_tests = total.ee_tests;
     st.leaf_pairs = total.leaf_pairs;
+    st.adjacent_leaf_pairs = total.adjacent_leaf_pairs;
     st.vf_root_tests = total.vf_ccd.root_tests;
     st.ee_root_tests = total.ee_ccd.root_tests;
     st.sprouted = total.sprouted;

@@ -18,6 +18,7 @@ using namespace mccd;
 
 struct Totals {
   std::uint64_t volume_tests = 0, vf_tests = 0, ee_tests = 0, contacts = 0, rebuilds = 0;
+  std::uint64_t last_front = 0, last_adjacent = 0;  // at the last front build
   double seconds = 0;
 };
 
@@ -104,6 +105,10 @@ Totals run_sequence(Scene& scene, const std::vector<std::vector<Positions>>& fra
       t.ee_tests += r.stats.ee_tests;
       t.contacts += r.contacts.size();
       t.rebuilds += r.stats.rebuilds;
+      if (r.stats.rebuilds) {
+        t.last_front = r.stats.front_size;
+        t.last_adjacent = r.stats.adjacent_leaf_pairs;
+      }
       t.seconds += r.stats.t_total;
     }
   }
@@ -117,6 +122,10 @@ void print_totals(const Scene& scene, const Totals& t, Method method, std::size_
               (unsigned long long)t.vf_tests, (unsigned long long)t.ee_tests, (unsigned long long)t.rebuilds, t.seconds);
   std::printf("orphan set: %zu VF pairs, %zu EE pairs; BVH depth %zu\n", scene.orphan_vf_count(),
               scene.orphan_ee_count(), scene.bvh_depth());
+  if (t.rebuilds)
+    std::printf("last front build: %llu nodes; the orphan set kept %llu adjacent leaf pairs out (%.1f%% shorter)\n",
+                (unsigned long long)t.last_front, (unsigned long long)t.last_adjacent,
+                100.0 * double(t.last_adjacent) / double(std::max<std::uint64_t>(t.last_front + t.last_adjacent, 1)));
 }
 
 SceneOptions scene_options(const cli::Args& a) {

@@ -128,9 +128,13 @@ int toi_check(const std::vector<std::string>& args) {
   std::printf("  elementary tests called: VF %llu, EE %llu; past their box and coplanarity filters: VF %llu, EE %llu\n",
               (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests, (unsigned long long)s.vf_root_tests,
               (unsigned long long)s.ee_root_tests);
-  std::printf("  front %llu nodes, orphan set %zu VF + %zu EE (tested %llu + %llu); earliest toi %.9g\n",
-              (unsigned long long)s.front_size, scene.orphan_vf_count(), scene.orphan_ee_count(),
-              (unsigned long long)s.orphan_vf_tested, (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
+  std::printf("  orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); earliest toi %.9g\n",
+              scene.orphan_vf_count(), scene.orphan_ee_count(), (unsigned long long)s.orphan_vf_tested,
+              (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
+  if (method == Method::Front)
+    std::printf("  front %llu nodes (%.1f MB); the orphan set keeps %llu adjacent leaf pairs out of it (%.1f%% shorter)\n",
+                (unsigned long long)s.front_size, s.front_bytes / 1e6, (unsigned long long)s.adjacent_leaf_pairs,
+                100.0 * double(s.adjacent_leaf_pairs) / double(std::max<std::uint64_t>(s.front_size + s.adjacent_leaf_pairs, 1)));
   std::printf("  time %.3f s (update %.3f, refit %.3f, front %.3f, orphans %.3f)\n", s.t_total, s.t_update, s.t_refit,
               s.t_front, s.t_orphans);
   const std::size_t missed = vf.missed + ee.missed;
