@@ -4,6 +4,10 @@
 #include <chrono>
 #include <cstring>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include "core/engine.h"
 #include "geometry/error.h"
 
@@ -160,12 +164,16 @@ struct Scene::Impl {
       // contacts; concatenated in block order, so the result is independent of scheduling.
       const std::size_t blocks = (front.size() + kFrontBlock - 1) / kFrontBlock;
       if (outputs.size() < blocks) outputs.resize(blocks);
-      for (std::size_t b = 0; b < blocks; ++b) {
-        WorkerOutput& o = outputs[b];
-        o.clear();
-        const std::size_t lo = b * kFrontBlock, hi = std::min(front.size(), lo + kFrontBlock);
-        eng.track(front.data() + lo, front.data() + hi, o);
-      }
+      // Blocks go to idle threads as they finish (work stealing); one block is the unit of
+      // output, so the thread count only changes who computes a block, never its result.
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+          WorkerOutput& o = outputs[b];
+          o.clear();
+          const std::size_t lo = b * kFrontBlock, hi = std::min(front.size(), lo + kFrontBlock);
+          eng.track(front.data() + lo, front.data() + hi, o);
+        }
+      });
       next_front.clear();
       for (std::size_t b = 0; b < blocks; ++b) {
         collect(outputs[b]);
@@ -251,7 +259,9 @@ struct Scene::Impl {
   }
 
   StepResult run(Method method, Clock::time_point t0) {
-    return dop ? run(*dop, method, t0) : run(*aabb, method, t0);
+    auto body = [&] { return dop ? run(*dop, method, t0) : run(*aabb, method, t0); };
+    if (options.arena) return options.arena->execute(body);
+    return body();
   }
 };
 

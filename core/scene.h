@@ -11,12 +11,11 @@
 #include <optional>
 #include <vector>
 
+#include <oneapi/tbb/task_arena.h>
+
 #include "core/contact.h"
 #include "geometry/mesh.h"
 
-namespace oneapi::tbb {
-class task_arena;
-}
 
 namespace mccd {
 
@@ -34,7 +33,7 @@ struct SceneOptions {
   /// Report pairs that come within this distance (>= 0) as contacts.
   double min_distance = 0.0;
   /// Where the parallel stages run; nullptr: the caller's arena.
-  oneapi::tbb::task_arena* arena = nullptr;
+  tbb::task_arena* arena = nullptr;
 };
 
 /// A view of one mesh's positions: row i is vertex i (x, y, z), row-major doubles. Read during

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <oneapi/tbb/task_arena.h>
 
 #include "core/scenes.h"
 #include "geometry/error.h"
@@ -253,5 +254,25 @@ TEST(SceneContacts, OrphanPairsAreFoundBetweenAdjacentTriangles) {
     for (const Contact& c : r.contacts) found |= c.kind == ContactKind::VertexFace && c.a == 3 && c.b == 0;
     EXPECT_TRUE(found) << to_string(meth);
     if (meth != Method::BruteForce) EXPECT_GE(r.stats.orphan_vf_tested, 1u);
+  }
+}
+
+TEST(SceneThreads, ResultsDoNotDependOnThreadCount) {
+  AnimatedScene s = make_folding_cloth(50, 31);
+  tbb::task_arena one(1), two(2), four(4);
+  SceneOptions o1, o2, o4;
+  o1.arena = &one;
+  o2.arena = &two;
+  o4.arena = &four;
+  Scene a(s.meshes, o1), b(s.meshes, o2), c(s.meshes, o4);
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    auto next = views(s.frames[f]);
+    StepResult ra = a.advance(next), rb = b.advance(next), rc = c.advance(next);
+    ASSERT_EQ(ra.contacts, rb.contacts) << "step " << f;
+    ASSERT_EQ(ra.contacts, rc.contacts) << "step " << f;
+    EXPECT_EQ(ra.stats.volume_tests, rb.stats.volume_tests);
+    EXPECT_EQ(ra.stats.front_size, rc.stats.front_size);
+    EXPECT_EQ(ra.stats.sprouted, rc.stats.sprouted);
+    EXPECT_EQ(ra.stats.rebuilds, rc.stats.rebuilds);
   }
 }

@@ -91,5 +91,5 @@ TEST(CcdRandomExact, NearContactAgainstExactReference) {
   EXPECT_EQ(fn.load(), 0);
   EXPECT_EQ(late.load(), 0);
   EXPECT_GT(positives.load(), kQueries / 5);
-  EXPECT_LT(fp.load(), kQueries / 100);
+  EXPECT_LT(fp.load(), kQueries / 50);
 }

@@ -216,6 +216,21 @@ void refine(AlgebraicTime& t) {
 int sign_at(const QPoly& h, AlgebraicTime t) {
   if (is_zero(h)) return 0;
   if (t.is_exact) return sign_at(h, t.lo);
+  // Fast path: centred form. For t in [lo, hi] within [0, 1], |h(t) - h(m)| <= r sum i|c_i|
+  // with r = (hi - lo) / 2; refine the interval a bounded number of times.
+  Q lip = 0;
+  for (std::size_t i = 1; i < h.c.size(); ++i) lip += abs(h.c[i]) * static_cast<long>(i);
+  {
+    AlgebraicTime u = t;
+    for (int it = 0; it < 48; ++it) {
+      if (u.is_exact) return sign_at(h, u.lo);
+      const Q m = (u.lo + u.hi) / 2;
+      const Q hm = eval(h, m);
+      if (abs(hm) > (u.hi - u.lo) / 2 * lip) return sgn(hm);
+      refine(u);
+    }
+    t = u;
+  }
   const QPoly g = gcd(t.poly, h);
   if (degree(g) >= 1 && sign_at(g, t.lo) != sign_at(g, t.hi)) return 0;
   // h(t) != 0: refine until h has no root in [lo, hi].
@@ -327,11 +342,25 @@ AlgebraicTime zero_time() {
 
 }  // namespace
 
+// True when the cubic f (power basis) has Bernstein coefficients on [0, 1] all of one
+// strict sign: then f has no root in [0, 1].
+bool no_root_in_unit(const QPoly& f) {
+  if (is_zero(f)) return false;
+  std::vector<Q> c(4, Q(0));
+  for (std::size_t i = 0; i < f.c.size() && i < 4; ++i) c[i] = f.c[i];
+  if (f.c.size() > 4) return false;
+  // b_k = sum_{i<=k} C(k,i)/C(3,i) c_i
+  const Q b0 = c[0], b1 = c[0] + c[1] / 3, b2 = c[0] + c[1] * 2 / 3 + c[2] / 3, b3 = c[0] + c[1] + c[2] + c[3];
+  const int s0 = sgn(b0);
+  return s0 != 0 && sgn(b1) == s0 && sgn(b2) == s0 && sgn(b3) == s0;
+}
+
 ExactResult exact_vertex_face(const CcdPoints& q) {
   const PV p = moving(q.start[0], q.end[0]), a = moving(q.start[1], q.end[1]), b = moving(q.start[2], q.end[2]),
            c = moving(q.start[3], q.end[3]);
   const QPoly f = vdot(vsub(a, p), vcross(vsub(b, p), vsub(c, p)));
   ExactResult r;
+  if (no_root_in_unit(f)) return r;
   if (!is_zero(f)) {
     for (const AlgebraicTime& t : roots_in_unit(f))
       if (vf_contact_at(p, a, b, c, t)) return {true, t};
@@ -349,6 +378,7 @@ ExactResult exact_edge_edge(const CcdPoints& q) {
            b1 = moving(q.start[3], q.end[3]);
   const QPoly f = vdot(vsub(b0, a0), vcross(vsub(a1, a0), vsub(b1, b0)));
   ExactResult r;
+  if (no_root_in_unit(f)) return r;
   if (!is_zero(f)) {
     for (const AlgebraicTime& t : roots_in_unit(f))
       if (ee_contact_at(a0, a1, b0, b1, t)) return {true, t};
