@@ -16,12 +16,11 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#ifdef MCCD_CCD_TRACE
-#include <cstdio>
-#endif
+#include <cstdlib>
 
 #include "geometry/ccd_detail.h"
 
+long g_pd = 0, g_pl = 0;
 namespace mccd {
 namespace detail {
 namespace {
@@ -517,6 +516,9 @@ Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi)
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, int& budget, T& toi,
                LongPass* long_pass) {
+  static const int xd = getenv("XD") ? atoi(getenv("XD")) : 0;
+  static const int xl = getenv("XL") ? atoi(getenv("XL")) : 1;
+  if constexpr (std::is_same_v<T, double>) { if (xd) max_depth = xd; if (!xl) long_pass = nullptr; }
   Piece<T> stack[kCcdMaxDepthLong + 4];
   int top = 0;
   stack[top++] = start;
@@ -524,10 +526,7 @@ Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, 
   while (top > 0) {
     const Piece<T> P = stack[--top];
     --budget;
-#ifdef MCCD_CCD_TRACE
-    std::fprintf(stderr, "piece [%.17g, %.17g] d%d f=(%g %g %g %g) ef=%g\n", double(P.lo), double(P.hi), P.depth, double(P.f.c[0]), double(P.f.c[1]), double(P.f.c[2]), double(P.f.c[3]), double(P.ef));
-    for (int i = 0; i < ng; ++i) std::fprintf(stderr, "   g%d=(%g %g %g %g %g) eg=%g\n", i, double(P.g[i].c[0]), double(P.g[i].c[1]), double(P.g[i].c[2]), double(P.g[i].c[3]), double(P.g[i].c[4]), double(P.eg[i]));
-#endif
+    if constexpr (std::is_same_v<T, double>) ++g_pd; else ++g_pl;
     if (definite_sign(P.f, P.ef + S.dN) != 0) continue;
     bool excluded = false, all_positive = true;
     for (int i = 0; i < ng; ++i) {
@@ -611,7 +610,8 @@ Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi)
     P.ef = restrict_to(lp.root.f, lp.root.ef, P.lo, P.hi, P.f);
     for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
     long double t = 0;
-    const Outcome r = search(lp.L, P, lp.ng, kCcdMaxDepthLong, lp.budget, t, static_cast<LongPass*>(nullptr));
+    static const int xld = getenv("XLD") ? atoi(getenv("XLD")) : kCcdMaxDepthLong;
+    const Outcome r = search(lp.L, P, lp.ng, xld, lp.budget, t, static_cast<LongPass*>(nullptr));
     if (r != Outcome::Miss) toi = round_down(t);
     return r;
   } else {
@@ -686,6 +686,8 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   LongPass lp;
   lp.S = &S;
   lp.counters = counters;
+  static const int xlb = getenv("XLB") ? atoi(getenv("XLB")) : kCcdPieceBudgetLong;
+  lp.budget = xlb;
   const Outcome r = search(S, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (r == Outcome::Miss) return false;
   toi = t;

@@ -7,6 +7,48 @@
 /// [0, 1] (or come within `min_distance`), the test returns true, always, in floating point.
 /// It may rarely return true for a pair that does not touch (a false positive). The reported
 /// time of impact is never later than the true earliest one.
+///
+/// Method (geometry/ccd.cpp has the error analysis):
+///  (a) swept boxes: the axis-aligned boxes of each primitive over [0, 1] (exact comparisons);
+///  (b) coplanarity filter: the cubic f(t) = det of the three difference vectors, in Bernstein
+///      form over [0, 1] with a rigorous forward error bound; four coefficients of one sign
+///      beyond the bound (beyond d * max|normal| when min_distance = d > 0) prove that the
+///      points are never coplanar, hence never touch. Most pairs leave at (a) or (b);
+///  (c) a depth-first search over dyadic time pieces, earliest first. On each piece the cubic
+///      and the inside functions g_i (VF: the barycentric coordinates times |n|^2; EE: the
+///      two segment parameters and their complements times |da x db|^2), all quartics in
+///      Bernstein form with error bounds, are enclosed. A piece is cleared when the cubic is
+///      certainly nonzero, or some g_i is certainly negative (d = 0), or a separating
+///      direction (closest points, face normal, in-plane edge normals, da x db and its
+///      in-plane normals) holds over the whole piece, checked rigorously. It is a certified
+///      contact when the cubic certainly changes sign and every g_i is certainly positive.
+///      Undecided pieces are halved; pieces still undecided at 2^-40 are handed to the same
+///      search in long double (64-bit mantissa, error bounds ~2^11 times smaller) down to
+///      2^-64; what stays undecided is reported as a contact at the start of that piece.
+///
+/// Degenerate cases, none of which can produce a false negative because every clearing
+/// test is a necessary condition of contact proved with rigorous bounds:
+///  - motion coplanar for all t (f == 0): the cubic clears nothing; the inside functions
+///    and separating directions clear the pieces where the primitives are apart;
+///  - parallel or collinear edges, zero-length edges, zero-area faces (g_i == 0 where the
+///    normal vanishes): only separating directions clear; exact contacts are reported;
+///  - vertex on an edge, edge endpoint on an edge, touching exactly at t = 0 or t = 1,
+///    tangential (double-root) contact: undecided to the finest piece, then reported;
+///  - coordinates are rescaled by an exact power of two when the largest is outside
+///    [2^-60, 2^60]; inputs that are not finite, or whose dynamic range exceeds about
+///    2^1000, are reported as a contact at toi = 0 (conservative).
+///
+/// Time of impact: never later than the first contact. For a certified (transversal)
+/// contact it lies within 2^-32 of the earliest root of the cubic in the certified piece,
+/// unless the cubic is numerically zero over a wider span (then the start of that span).
+/// For a reported undecided piece it is the start of that piece, the first time the tests
+/// could not clear (at most 2^-40 or 2^-64 before a contact in that piece, earlier when the
+/// primitives stay within rounding distance of each other). With min_distance d > 0 it is
+/// the start of the first piece that could not be cleared at distance d.
+///
+/// Cost: ~30 ns (box) and ~100 ns (coplanarity) per query; queries reaching (c) take from
+/// ~1 us to tens of microseconds (exact touching contacts go to the finest pieces twice);
+/// bounded by a piece budget.
 #include <array>
 #include <cstdint>
 

@@ -66,13 +66,17 @@ CcdPoints make_query(std::uint64_t seed, bool vf) {
 
 TEST(CcdRandomExact, NearContactAgainstExactReference) {
   const int kQueries = std::getenv("MCCD_RANDOM_QUERIES") ? std::atoi(std::getenv("MCCD_RANDOM_QUERIES")) : 100000;
-  std::atomic<int> positives{0}, fn{0}, fp{0}, late{0};
+  std::atomic<int> positives{0}, fn{0}, fp{0}, late{0}, checked_hits_or_misses{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, kQueries, 256), [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i < r.end(); ++i) {
       const bool vf = (i & 1) == 0;
       const CcdPoints p = make_query(0x9e3779b97f4a7c15ull * (i + 1), vf);
       double toi = -1;
       const bool hit = vf ? vertex_face_ccd(p, toi) : edge_edge_ccd(p, toi);
+      // The reference decides every reported miss (a false negative is only possible there)
+      // and one reported hit in four (false positives, toi never late), to keep the run short.
+      if (hit && i % 8 >= 2) continue;
+      ++checked_hits_or_misses;
       const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
       if (ref.hit) ++positives;
       if (ref.hit && !hit) {
@@ -86,10 +90,11 @@ TEST(CcdRandomExact, NearContactAgainstExactReference) {
       }
     }
   });
-  std::cout << "[ random  ] " << kQueries << " queries, " << positives << " positive, " << fp
+  std::cout << "[ random  ] " << kQueries << " queries, " << checked_hits_or_misses
+            << " decided by the exact reference (every miss, 1 hit in 4): " << positives << " positive, " << fp
             << " false positives\n";
   EXPECT_EQ(fn.load(), 0);
   EXPECT_EQ(late.load(), 0);
-  EXPECT_GT(positives.load(), kQueries / 5);
-  EXPECT_LT(fp.load(), kQueries / 50);
+  EXPECT_GT(positives.load(), kQueries / 20);
+  EXPECT_LT(fp.load(), kQueries / 200);
 }

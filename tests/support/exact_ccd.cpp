@@ -314,24 +314,39 @@ std::optional<AlgebraicTime> earliest(std::optional<AlgebraicTime> a, std::optio
   throw std::logic_error("exact_ccd: cannot order two contact times");
 }
 
-bool vf_contact_at(const PV& p, const PV& a, const PV& b, const PV& c, const AlgebraicTime& t) {
-  const PV A = vsub(a, p), B = vsub(b, p), C = vsub(c, p);
-  const PV X = vcross(B, C), Y = vcross(C, A), Z = vcross(A, B);
-  const PV n = {add(add(X[0], Y[0]), Z[0]), add(add(X[1], Y[1]), Z[1]), add(add(X[2], Y[2]), Z[2])};
-  if (sign_at(vdot(n, n), t) > 0)
-    return sign_at(vdot(n, X), t) >= 0 && sign_at(vdot(n, Y), t) >= 0 && sign_at(vdot(n, Z), t) >= 0;
-  return on_segment_at(p, a, b, t) || on_segment_at(p, b, c, t) || on_segment_at(p, c, a, t);
+// The polynomials of the inside tests, computed once per query.
+struct VfPolys {
+  PV p, a, b, c;
+  QPoly nn, gx, gy, gz;
+  VfPolys(const PV& p_, const PV& a_, const PV& b_, const PV& c_) : p(p_), a(a_), b(b_), c(c_) {
+    const PV A = vsub(a, p), B = vsub(b, p), C = vsub(c, p);
+    const PV X = vcross(B, C), Y = vcross(C, A), Z = vcross(A, B);
+    const PV n = {add(add(X[0], Y[0]), Z[0]), add(add(X[1], Y[1]), Z[1]), add(add(X[2], Y[2]), Z[2])};
+    nn = vdot(n, n), gx = vdot(n, X), gy = vdot(n, Y), gz = vdot(n, Z);
+  }
+};
+
+bool vf_contact_at(const VfPolys& P, const AlgebraicTime& t) {
+  if (sign_at(P.nn, t) > 0) return sign_at(P.gx, t) >= 0 && sign_at(P.gy, t) >= 0 && sign_at(P.gz, t) >= 0;
+  return on_segment_at(P.p, P.a, P.b, t) || on_segment_at(P.p, P.b, P.c, t) || on_segment_at(P.p, P.c, P.a, t);
 }
 
-bool ee_contact_at(const PV& a0, const PV& a1, const PV& b0, const PV& b1, const AlgebraicTime& t) {
-  const PV da = vsub(a1, a0), db = vsub(b1, b0), w = vsub(b0, a0);
-  const PV e = vcross(da, db);
-  if (sign_at(vdot(e, e), t) > 0) {
-    const QPoly g1 = vdot(vcross(w, db), e), g3 = vdot(vcross(w, da), e), ee = vdot(e, e);
-    return sign_at(g1, t) >= 0 && sign_at(sub(ee, g1), t) >= 0 && sign_at(g3, t) >= 0 && sign_at(sub(ee, g3), t) >= 0;
+struct EePolys {
+  PV a0, a1, b0, b1;
+  QPoly ee, g1, g2, g3, g4;
+  EePolys(const PV& a0_, const PV& a1_, const PV& b0_, const PV& b1_) : a0(a0_), a1(a1_), b0(b0_), b1(b1_) {
+    const PV da = vsub(a1, a0), db = vsub(b1, b0), w = vsub(b0, a0);
+    const PV e = vcross(da, db);
+    ee = vdot(e, e), g1 = vdot(vcross(w, db), e), g3 = vdot(vcross(w, da), e);
+    g2 = sub(ee, g1), g4 = sub(ee, g3);
   }
-  return on_segment_at(a0, b0, b1, t) || on_segment_at(a1, b0, b1, t) || on_segment_at(b0, a0, a1, t) ||
-         on_segment_at(b1, a0, a1, t);
+};
+
+bool ee_contact_at(const EePolys& P, const AlgebraicTime& t) {
+  if (sign_at(P.ee, t) > 0)
+    return sign_at(P.g1, t) >= 0 && sign_at(P.g2, t) >= 0 && sign_at(P.g3, t) >= 0 && sign_at(P.g4, t) >= 0;
+  return on_segment_at(P.a0, P.b0, P.b1, t) || on_segment_at(P.a1, P.b0, P.b1, t) || on_segment_at(P.b0, P.a0, P.a1, t) ||
+         on_segment_at(P.b1, P.a0, P.a1, t);
 }
 
 AlgebraicTime zero_time() {
@@ -361,12 +376,13 @@ ExactResult exact_vertex_face(const CcdPoints& q) {
   const QPoly f = vdot(vsub(a, p), vcross(vsub(b, p), vsub(c, p)));
   ExactResult r;
   if (no_root_in_unit(f)) return r;
+  const VfPolys P(p, a, b, c);
   if (!is_zero(f)) {
     for (const AlgebraicTime& t : roots_in_unit(f))
-      if (vf_contact_at(p, a, b, c, t)) return {true, t};
+      if (vf_contact_at(P, t)) return {true, t};
     return r;
   }
-  if (vf_contact_at(p, a, b, c, zero_time())) return {true, zero_time()};
+  if (vf_contact_at(P, zero_time())) return {true, zero_time()};
   std::optional<AlgebraicTime> best =
       earliest(earliest(vertex_edge_earliest(p, a, b), vertex_edge_earliest(p, b, c)), vertex_edge_earliest(p, c, a));
   if (best) return {true, *best};
@@ -379,12 +395,13 @@ ExactResult exact_edge_edge(const CcdPoints& q) {
   const QPoly f = vdot(vsub(b0, a0), vcross(vsub(a1, a0), vsub(b1, b0)));
   ExactResult r;
   if (no_root_in_unit(f)) return r;
+  const EePolys P(a0, a1, b0, b1);
   if (!is_zero(f)) {
     for (const AlgebraicTime& t : roots_in_unit(f))
-      if (ee_contact_at(a0, a1, b0, b1, t)) return {true, t};
+      if (ee_contact_at(P, t)) return {true, t};
     return r;
   }
-  if (ee_contact_at(a0, a1, b0, b1, zero_time())) return {true, zero_time()};
+  if (ee_contact_at(P, zero_time())) return {true, zero_time()};
   std::optional<AlgebraicTime> best =
       earliest(earliest(vertex_edge_earliest(a0, b0, b1), vertex_edge_earliest(a1, b0, b1)),
                earliest(vertex_edge_earliest(b0, a0, a1), vertex_edge_earliest(b1, a0, a1)));

@@ -13,12 +13,12 @@
 
 namespace {
 
-struct Run {
+struct CliRun {
   int status;
   std::string out;
 };
 
-Run run(const std::string& args) {
+CliRun run_cli(const std::string& args) {
   const std::string cmd = mccd::test::cli_path() + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return {-1, ""};
@@ -49,7 +49,7 @@ long false_negatives(const std::string& out, const std::string& kind) {
 TEST(CcdCliQueries, SampleQueriesHaveNoFalseNegatives) {
   const auto dir = mccd::test::data_dir() / "sample-queries";
   MCCD_REQUIRE_DATA(dir);
-  const Run r = run("queries " + dir.string() + " --repeat 1");
+  const CliRun r = run_cli("queries " + dir.string() + " --repeat 1");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(false_negatives(r.out, "vertex-face"), 0) << r.out;
   EXPECT_EQ(false_negatives(r.out, "edge-edge"), 0) << r.out;
@@ -60,7 +60,7 @@ TEST(CcdCliQueries, SampleQueriesHaveNoFalseNegatives) {
 TEST(CcdCliQueries, ClothFunnelWithJsonTruth) {
   const auto dir = mccd::test::data_dir() / "toi" / "cloth-funnel";
   MCCD_REQUIRE_DATA(dir / "queries" / "227ee.csv");
-  const Run r = run("queries " + (dir / "queries" / "227ee.csv").string() + " --kind ee --truth " +
+  const CliRun r = run_cli("queries " + (dir / "queries" / "227ee.csv").string() + " --kind ee --truth " +
                     (dir / "mma_bool" / "227ee_mma_bool.json").string() + " --repeat 1");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(false_negatives(r.out, "edge-edge"), 0) << r.out;
@@ -73,8 +73,8 @@ TEST(CcdCliQueries, MalformedFileIsRefusedWithItsLine) {
     std::ofstream out(path);
     out << "1,2,3,4,5,8,0\n1,3,1,1,1,1,0\n";
   }
-  const Run r = run("queries " + path.string() + " --kind vf");
+  const CliRun r = run_cli("queries " + path.string() + " --kind vf");
   EXPECT_EQ(r.status, 2) << r.out;
-  EXPECT_NE(r.out.find(":1:"), std::string::npos) << r.out;  // 3/4 is not a power-of-two denominator... line 1
+  EXPECT_NE(r.out.find(":2:"), std::string::npos) << r.out;  // 1/3: not a power-of-two denominator
   std::filesystem::remove(path);
 }
