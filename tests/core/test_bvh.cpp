@@ -29,7 +29,9 @@ TEST(Bvh, DepthFirstLayoutInvariants) {
       }
     }
     for (int s : seen) EXPECT_EQ(s, 1);
-    if (n == 1000) EXPECT_LT(b.depth(), 40u);
+    if (n == 1000) {
+      EXPECT_LT(b.depth(), 40u);
+    }
   }
 }
 
