@@ -19,6 +19,7 @@
 #include <cstdlib>
 
 #include "geometry/ccd_detail.h"
+#include "geometry/ccd_exact.h"
 
 long g_pd = 0, g_pl = 0;
 namespace mccd {
@@ -504,18 +505,74 @@ Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi)
   return Outcome::Miss;
 }
 
+// The cubic (Bernstein form over a piece) at s in [0, 1] of the piece, by de Casteljau.
+template <class T>
+inline T eval_at(const Bern<3, T>& f, T s) {
+  T b[4] = {f.c[0], f.c[1], f.c[2], f.c[3]};
+  for (int k = 3; k > 0; --k)
+    for (int i = 0; i < k; ++i) b[i] = b[i] + s * (b[i + 1] - b[i]);
+  return b[0];
+}
+
+// Shortcut of the bisection on a piece P where the cubic certainly changes sign and nothing
+// else is decided: locate the sign change (floating-point bisection on f; any estimate is
+// sound), take the window W of width 16 h (h = 2^-max_depth, W on the grid of h, so every
+// bound used below is exact in T and 1 - lo, 1 - hi are exact) around it, and prove with
+// rigorous bounds (the polynomials restricted from the root piece) that the cubic is
+// certainly nonzero (beyond d |n|) on P left and right of W: no contact there. Then W, with
+// every polynomial restricted to it, replaces P; it lies where P would have been bisected
+// to after about max_depth - 4 levels. False (nothing changed) when the proof fails.
+template <class T>
+bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_depth, Piece<T>& W) {
+  const T c0 = P.f.c[0], c3 = P.f.c[3];
+  if (!((c0 > P.ef && c3 < -P.ef) || (c0 < -P.ef && c3 > P.ef))) return false;
+  const T h = std::ldexp(T(1), -max_depth);
+  const T width = P.hi - P.lo;
+  if (width <= 64 * h) return false;
+  const bool neg0 = c0 < 0;
+  T sl = 0, sr = 1;
+  for (int it = 0; it < 100 && (sr - sl) * width > h; ++it) {
+    const T sm = (sl + sr) / 2;
+    if ((eval_at(P.f, sm) < 0) == neg0)
+      sl = sm;
+    else
+      sr = sm;
+  }
+  const T ts = P.lo + (sl + sr) / 2 * width;
+  const T a = std::max(P.lo, std::floor(ts / h - 8) * h);
+  const T b = std::min(P.hi, a + 16 * h);
+  if (!(a > P.lo || b < P.hi) || !(a < b)) return false;
+  Bern<3, T> side;
+  if (a > P.lo && definite_sign(side, restrict_to(R.f, R.ef, P.lo, a, side) + dN) == 0) return false;
+  if (b < P.hi && definite_sign(side, restrict_to(R.f, R.ef, b, P.hi, side) + dN) == 0) return false;
+  W.lo = a, W.hi = b, W.depth = max_depth - 4;
+  W.ef = restrict_to(R.f, R.ef, a, b, W.f);
+  for (int i = 0; i < ng; ++i) W.eg[i] = restrict_to(R.g[i], R.eg[i], a, b, W.g[i]);
+  return true;
+}
+
 // Depth-first search over dyadic time pieces, earliest first. A piece is cleared when the
 // cubic is certainly nonzero on it, or (d = 0) some inside function is certainly negative,
 // or a separating direction holds over it. A piece is a certified hit when the cubic
 // certainly changes sign over it and every inside function is certainly positive.
 // Undecided pieces are halved down to max_depth; the first undecided one at max_depth (or
 // when the piece budget is spent) ends the search as Undecided with toi = its start.
+// At t = 0 (end = 0) or t = 1 (end = 1) of the root piece: the cubic is zero and every inside
+// function is >= 0 within the error bounds (a necessary condition of touching there).
+inline bool may_touch_at(const Piece<double>& R, int ng, int end) {
+  if (!(std::fabs(R.f.c[end * 3]) <= R.ef)) return false;
+  for (int i = 0; i < ng; ++i)
+    if (!(R.g[i].c[end * 4] >= -R.eg[i])) return false;
+  return true;
+}
+
 struct LongPass;
 Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
+bool touches_at_end(LongPass& lp);
 
 template <class T>
-Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, int& budget, T& toi,
-               LongPass* long_pass) {
+Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
+               T& toi, LongPass* long_pass) {
   static const int xd = getenv("XD") ? atoi(getenv("XD")) : 0;
   static const int xl = getenv("XL") ? atoi(getenv("XL")) : 1;
   if constexpr (std::is_same_v<T, double>) { if (xd) max_depth = xd; if (!xl) long_pass = nullptr; }
@@ -539,6 +596,8 @@ Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, 
       // Every g > 0: contact exactly at the roots of the cubic in the piece.
       Outcome r = cubic_roots(P, S.dN, max_depth, budget, toi);
       if constexpr (std::is_same_v<T, double>) {
+        // A certain touch at t = 1 makes any undecided piece a contact (toi = its start).
+        if (r == Outcome::Undecided && long_pass && touches_at_end(*long_pass)) return Outcome::Hit;
         if (r == Outcome::Undecided && long_pass && budget > 0) r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
       }
       if (r == Outcome::Miss) continue;
@@ -546,6 +605,14 @@ Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, 
     }
     // The separation test is the most expensive one: tried at every third level only.
     if ((P.depth % 3 == 0 || P.depth >= max_depth - 1) && separated(S, P.lo, P.hi)) continue;
+    if constexpr (std::is_same_v<T, double>) {
+      // Every earlier piece is cleared; with a proved touch at t = 1, the first contact lies
+      // in [lo, 1]: report it at lo instead of bisecting further.
+      if (P.depth >= kCcdCertDepth && long_pass && touches_at_end(*long_pass)) {
+        toi = P.lo;
+        return Outcome::Hit;
+      }
+    }
     if (P.depth >= max_depth || budget <= 0) {
       if constexpr (std::is_same_v<T, double>) {
         // Second opinion in extended precision on this piece only.
@@ -558,6 +625,10 @@ Outcome search(const Setup<T>& S, const Piece<T>& start, int ng, int max_depth, 
       // Every earlier piece was cleared, so lo is never later than the first contact.
       toi = P.lo;
       return Outcome::Undecided;
+    }
+    if (jump_to_root(root, P, ng, S.dN, max_depth, stack[top])) {
+      ++top;
+      continue;
     }
     Piece<T>& R = stack[top++];
     Piece<T>& L = stack[top++];
@@ -588,7 +659,21 @@ struct LongPass {
   int ng = 0;
   int budget = kCcdPieceBudgetLong;
   CcdCounters* counters = nullptr;
+  // Exact touch at t = 1 (the input doubles): -1 not yet checked, 0 not proved, 1 proved.
+  const CcdPoints* points = nullptr;
+  const Piece<double>* root_d = nullptr;
+  int ng_d = 0;
+  int touch_at_end = -1;
 };
+
+bool touches_at_end(LongPass& lp) {
+  if (lp.touch_at_end < 0) {
+    const bool maybe = may_touch_at(*lp.root_d, lp.ng_d, 1);
+    lp.touch_at_end = maybe && (lp.S->kind == CcdKind::VertexFace ? exact_vertex_face_touch(lp.points->end)
+                                                                  : exact_edge_edge_touch(lp.points->end));
+  }
+  return lp.touch_at_end == 1;
+}
 
 Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi) {
   if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
@@ -611,7 +696,7 @@ Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi)
     for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
     long double t = 0;
     static const int xld = getenv("XLD") ? atoi(getenv("XLD")) : kCcdMaxDepthLong;
-    const Outcome r = search(lp.L, P, lp.ng, xld, lp.budget, t, static_cast<LongPass*>(nullptr));
+    const Outcome r = search(lp.L, lp.root, P, lp.ng, xld, lp.budget, t, static_cast<LongPass*>(nullptr));
     if (r != Outcome::Miss) toi = round_down(t);
     return r;
   } else {
@@ -682,13 +767,25 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   Piece<double> root;
   root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
   const int ng = setup_inside(S, root);
+  // Touching exactly at t = 0 (exact predicate on the input doubles): toi = 0 at once. Only
+  // tried when the floating-point values at t = 0 allow it (coplanar and inside within
+  // their error bounds).
+  if (may_touch_at(root, ng, 0) &&
+      (kind == CcdKind::VertexFace ? exact_vertex_face_touch(p.start) : exact_edge_edge_touch(p.start))) {
+    toi = 0;
+    if (counters) ++counters->hits;
+    return true;
+  }
   int budget = kCcdPieceBudget;
   LongPass lp;
   lp.S = &S;
   lp.counters = counters;
+  lp.points = &p;
+  lp.root_d = &root;
+  lp.ng_d = ng;
   static const int xlb = getenv("XLB") ? atoi(getenv("XLB")) : kCcdPieceBudgetLong;
   lp.budget = xlb;
-  const Outcome r = search(S, root, ng, kCcdMaxDepth, budget, t, &lp);
+  const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (r == Outcome::Miss) return false;
   toi = t;
   if (counters) ++counters->hits;

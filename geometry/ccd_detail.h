@@ -23,6 +23,7 @@ inline constexpr int kCcdMaxDepth = 40;          ///< double pass: pieces down t
 inline constexpr int kCcdPieceBudget = 400;      ///< double pass: at most this many pieces
 inline constexpr int kCcdMaxDepthLong = 64;      ///< long double pass: pieces down to 2^-64
 inline constexpr int kCcdPieceBudgetLong = 400;  ///< long double pass: at most this many pieces
-inline constexpr int kCcdToiDepth = 32;          ///< certified contacts: toi refined to 2^-32
+inline constexpr int kCcdToiDepth = 32;
+inline constexpr int kCcdCertDepth = 16;         ///< undecided from here: try the exact touch at t = 1          ///< certified contacts: toi refined to 2^-32
 
 }  // namespace mccd::detail

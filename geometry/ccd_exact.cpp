@@ -1,0 +1,222 @@
+// Exact instant contact predicates for the elementary CCD tests; see ccd_exact.h.
+//
+// Arithmetic: floating-point expansions (J. R. Shewchuk, "Adaptive precision floating-point
+// arithmetic and fast robust geometric predicates", 1997). A value is an unevaluated sum of
+// doubles, nonoverlapping, in increasing magnitude, without zeros; two-sum and two-product
+// (with fma) are error-free as long as nothing overflows or underflows. The inputs are
+// restricted to nonzero magnitudes in [2^-120, 2^120]: every term of a product of at most
+// four coordinate differences then stays far inside the normal range (>= 2^-800, <= 2^500),
+// so every operation below is exact and the signs are the exact signs.
+#include "geometry/ccd_exact.h"
+
+#include <cmath>
+
+namespace mccd::detail {
+namespace {
+
+constexpr int kCap = 64;
+
+struct Exp {
+  int n = 0;
+  double v[kCap];
+  bool ok = true;  // false: capacity exceeded (the value is then unusable)
+};
+
+inline void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a;
+  const double av = x - bv;
+  y = (a - av) + (b - bv);
+}
+inline void fast_two_sum(double a, double b, double& x, double& y) {  // |a| >= |b| or a == 0
+  x = a + b;
+  y = b - (x - a);
+}
+inline void two_prod(double a, double b, double& x, double& y) {
+  x = a * b;
+  y = std::fma(a, b, -x);
+}
+
+inline void push(Exp& h, double x) {
+  if (x == 0) return;
+  if (h.n >= kCap) {
+    h.ok = false;
+    return;
+  }
+  h.v[h.n++] = x;
+}
+
+// h = e + b (Shewchuk's Grow-Expansion with zero elimination).
+Exp grow(const Exp& e, double b) {
+  Exp h;
+  h.ok = e.ok;
+  double q = b;
+  for (int i = 0; i < e.n; ++i) {
+    double s, t;
+    two_sum(q, e.v[i], s, t);
+    push(h, t);
+    q = s;
+  }
+  push(h, q);
+  return h;
+}
+
+Exp sum(const Exp& e, const Exp& f) {
+  Exp h = e;
+  for (int i = 0; i < f.n && h.ok; ++i) h = grow(h, f.v[i]);
+  h.ok = h.ok && f.ok;
+  return h;
+}
+
+Exp neg(Exp e) {
+  for (int i = 0; i < e.n; ++i) e.v[i] = -e.v[i];
+  return e;
+}
+
+// Shewchuk's Compress: the same value with as few terms as possible.
+Exp compress(const Exp& e) {
+  if (e.n <= 1 || !e.ok) return e;
+  double g[kCap];
+  int bottom = e.n - 1;
+  double q = e.v[bottom];
+  for (int i = e.n - 2; i >= 0; --i) {
+    double s, t;
+    fast_two_sum(q, e.v[i], s, t);
+    if (t != 0) {
+      g[bottom--] = s;
+      q = t;
+    } else {
+      q = s;
+    }
+  }
+  g[bottom] = q;
+  Exp h;
+  double acc = g[bottom];
+  for (int i = bottom + 1; i < e.n; ++i) {
+    double s, t;
+    fast_two_sum(g[i], acc, s, t);
+    push(h, t);
+    acc = s;
+  }
+  push(h, acc);
+  return h;
+}
+
+// h = e * b (Scale-Expansion with zero elimination).
+Exp scale(const Exp& e, double b) {
+  Exp h;
+  h.ok = e.ok;
+  if (e.n == 0 || b == 0) return h;
+  double q, t;
+  two_prod(e.v[0], b, q, t);
+  push(h, t);
+  for (int i = 1; i < e.n; ++i) {
+    double p1, p0, s, hh;
+    two_prod(e.v[i], b, p1, p0);
+    two_sum(q, p0, s, hh);
+    push(h, hh);
+    fast_two_sum(p1, s, q, hh);
+    push(h, hh);
+  }
+  push(h, q);
+  return h;
+}
+
+Exp mul(const Exp& e, const Exp& f) {
+  Exp h;
+  h.ok = e.ok && f.ok;
+  for (int i = 0; i < f.n && h.ok; ++i) h = compress(sum(h, scale(e, f.v[i])));
+  return h;
+}
+
+inline int sign(const Exp& e) { return e.n == 0 ? 0 : (e.v[e.n - 1] > 0 ? 1 : -1); }
+
+// a - b, exactly (two terms at most).
+Exp diff(double a, double b) {
+  Exp h;
+  double x, y;
+  two_sum(a, -b, x, y);
+  push(h, y);
+  push(h, x);
+  return h;
+}
+
+struct V3E {
+  Exp x, y, z;
+};
+
+V3E vdiff(const Vec3& a, const Vec3& b) { return {diff(a.x(), b.x()), diff(a.y(), b.y()), diff(a.z(), b.z())}; }
+Exp sub_mul(const Exp& a, const Exp& b, const Exp& c, const Exp& d) {  // a b - c d
+  return compress(sum(mul(a, b), neg(mul(c, d))));
+}
+V3E vcross(const V3E& a, const V3E& b) {
+  return {sub_mul(a.y, b.z, a.z, b.y), sub_mul(a.z, b.x, a.x, b.z), sub_mul(a.x, b.y, a.y, b.x)};
+}
+V3E vadd(const V3E& a, const V3E& b) {
+  return {compress(sum(a.x, b.x)), compress(sum(a.y, b.y)), compress(sum(a.z, b.z))};
+}
+Exp vdot(const V3E& a, const V3E& b) { return compress(sum(sum(mul(a.x, b.x), mul(a.y, b.y)), mul(a.z, b.z))); }
+bool all_ok(const V3E& a) { return a.x.ok && a.y.ok && a.z.ok; }
+bool is_zero(const V3E& a) { return a.x.n == 0 && a.y.n == 0 && a.z.n == 0; }
+
+// Every coordinate is zero or of magnitude in [2^-120, 2^120] (see the header comment).
+bool in_range(const Vec3* p, int n) {
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double a = std::fabs(p[i][k]);
+      if (a != 0 && !(a >= 0x1p-120 && a <= 0x1p120)) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+int exact_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 pts[4] = {a, b, c, d};
+  if (!in_range(pts, 4)) return 2;
+  const V3E B = vdiff(b, a), C = vdiff(c, a), D = vdiff(d, a);
+  const Exp det = vdot(B, vcross(C, D));
+  if (!det.ok) return 2;
+  return sign(det);
+}
+
+bool exact_vertex_face_touch(const std::array<Vec3, 4>& pts) {
+  const Vec3 &p = pts[0], &a = pts[1], &b = pts[2], &c = pts[3];
+  if (p == a || p == b || p == c) return p.allFinite();
+  if (!in_range(pts.data(), 4)) return false;
+  const V3E A = vdiff(a, p), B = vdiff(b, p), C = vdiff(c, p);
+  const V3E X = vcross(B, C), Y = vcross(C, A), Z = vcross(A, B);
+  const Exp f = vdot(A, X);
+  if (!f.ok || sign(f) != 0) return false;
+  // n = (b - a) x (c - a) = X + Y + Z; at a coplanar p, n.X, n.Y, n.Z are the barycentric
+  // coordinates of p times |n|^2.
+  const V3E n = vadd(vadd(X, Y), Z);
+  if (!all_ok(n) || is_zero(n)) return false;
+  for (const V3E* g : {&X, &Y, &Z}) {
+    const Exp s = vdot(n, *g);
+    if (!s.ok || sign(s) < 0) return false;
+  }
+  return true;
+}
+
+bool exact_edge_edge_touch(const std::array<Vec3, 4>& pts) {
+  const Vec3 &a0 = pts[0], &a1 = pts[1], &b0 = pts[2], &b1 = pts[3];
+  if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return a0.allFinite() && a1.allFinite();
+  if (!in_range(pts.data(), 4)) return false;
+  const V3E da = vdiff(a1, a0), db = vdiff(b1, b0), w = vdiff(b0, a0);
+  const V3E e = vcross(da, db);
+  if (!all_ok(e) || is_zero(e)) return false;  // parallel (or degenerate) edges: not decided
+  const Exp f = vdot(w, e);
+  if (!f.ok || sign(f) != 0) return false;
+  // a0 + s da = b0 + r db with s = (w x db).e / |e|^2 and r = (w x da).e / |e|^2.
+  const Exp ee = vdot(e, e);
+  const Exp s = vdot(vcross(w, db), e);
+  const Exp r = vdot(vcross(w, da), e);
+  if (!ee.ok || !s.ok || !r.ok) return false;
+  if (sign(s) < 0 || sign(r) < 0) return false;
+  const Exp s1 = compress(sum(ee, neg(s))), r1 = compress(sum(ee, neg(r)));
+  if (!s1.ok || !r1.ok) return false;
+  return sign(s1) >= 0 && sign(r1) >= 0;
+}
+
+}  // namespace mccd::detail
