@@ -13,6 +13,10 @@
 #include <chrono>
 #include <vector>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
 #include "core/bvh.h"
 #include "core/contact.h"
 #include "core/features.h"
@@ -87,6 +91,7 @@ class Engine {
     volumes_.resize(bvh_.size());
     vertex_volumes_.resize(g_.topo.num_vertices());
     edge_volumes_.resize(g_.topo.num_edges());
+    plan_refit();
   }
 
   const BvhTopology& bvh() const { return bvh_; }
@@ -95,24 +100,48 @@ class Engine {
   void update_vertex_volumes() {
     const Positions& x0 = *g_.x0;
     const Positions& x1 = *g_.x1;
-    for (std::size_t v = 0; v < vertex_volumes_.size(); ++v) {
-      BV d = BV::empty();
-      d.add_point(x0.row(static_cast<Eigen::Index>(v)).transpose());
-      d.add_point(x1.row(static_cast<Eigen::Index>(v)).transpose());
-      if (g_.ccd.min_distance > 0) d.inflate(g_.ccd.min_distance);
-      vertex_volumes_[v] = d;
-    }
-    for (std::size_t e = 0; e < edge_volumes_.size(); ++e) {
-      const Edge& ed = g_.topo.edges()[e];
-      edge_volumes_[e] = BV::merged(vertex_volumes_[ed[0]], vertex_volumes_[ed[1]]);
-    }
+    // Fixed-size work per item: a static partition over the cores.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, vertex_volumes_.size(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            BV d = BV::empty();
+            d.add_point(x0.row(static_cast<Eigen::Index>(v)).transpose());
+            d.add_point(x1.row(static_cast<Eigen::Index>(v)).transpose());
+            if (g_.ccd.min_distance > 0) d.inflate(g_.ccd.min_distance);
+            vertex_volumes_[v] = d;
+          }
+        },
+        tbb::static_partitioner());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, edge_volumes_.size(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t e = r.begin(); e != r.end(); ++e) {
+            const Edge& ed = g_.topo.edges()[e];
+            edge_volumes_[e] = BV::merged(vertex_volumes_[ed[0]], vertex_volumes_[ed[1]]);
+          }
+        },
+        tbb::static_partitioner());
   }
 
-  /// Stage 2: refit every node volume bottom-up.
+  /// Stage 2: refit every node volume bottom-up (paper section 4.7). The BVH never changes
+  /// shape, so its split into subtrees of similar size is computed once: the subtrees are
+  /// refitted under a static partition, then the few nodes above them serially.
   void refit() {
     if (bvh_.size() == 0) return;
-    refit_range(bvh_, volumes_, 0, static_cast<std::uint32_t>(bvh_.size()),
-                [this](std::uint32_t t) { return triangle_volume(t); });
+    auto leaf = [this](std::uint32_t t) { return triangle_volume(t); };
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, refit_roots_.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const std::uint32_t root = refit_roots_[i];
+            refit_range(bvh_, volumes_, root, bvh_.nodes()[root].end, leaf);
+          }
+        },
+        tbb::static_partitioner());
+    // the top: nodes above the cut, deepest first (reverse depth-first order)
+    for (auto it = refit_top_.rbegin(); it != refit_top_.rend(); ++it)
+      volumes_[*it] = BV::merged(volumes_[bvh_.left(*it)], volumes_[bvh_.right(*it)]);
   }
 
   BV triangle_volume(std::uint32_t t) const {
@@ -322,6 +351,27 @@ class Engine {
   }
 
  private:
+  /// Cuts the BVH into subtrees of at most ~1/64 of the nodes (and at least 2048 nodes, so
+  /// small scenes stay one piece): refit_roots_ are their roots, refit_top_ the inner nodes
+  /// above them in depth-first order.
+  void plan_refit() {
+    if (bvh_.size() == 0) return;
+    const std::uint32_t limit = std::max<std::uint32_t>(2048, static_cast<std::uint32_t>(bvh_.size() / 64));
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const std::uint32_t n = stack.back();
+      stack.pop_back();
+      if (bvh_.subtree_size(n) <= limit || bvh_.leaf(n)) {
+        refit_roots_.push_back(n);
+      } else {
+        refit_top_.push_back(n);
+        stack.push_back(bvh_.right(n));
+        stack.push_back(bvh_.left(n));
+      }
+    }
+    std::sort(refit_top_.begin(), refit_top_.end());  // depth-first order: parents first
+  }
+
   void load(const std::uint32_t (&ids)[4], CcdPoints& p) const {
     for (int k = 0; k < 4; ++k) {
       p.start[k] = g_.x0->row(ids[k]).transpose();
@@ -334,6 +384,8 @@ class Engine {
   std::vector<BV> volumes_;         ///< one per BVH node
   std::vector<BV> vertex_volumes_;  ///< one per vertex: its swept segment
   std::vector<BV> edge_volumes_;    ///< one per edge: merge of its two vertex volumes
+  std::vector<std::uint32_t> refit_roots_;  ///< subtrees refitted in parallel
+  std::vector<std::uint32_t> refit_top_;    ///< inner nodes above them, ascending
 };
 
 }  // namespace mccd::detail

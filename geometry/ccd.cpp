@@ -528,7 +528,7 @@ bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_de
   if (!((c0 > P.ef && c3 < -P.ef) || (c0 < -P.ef && c3 > P.ef))) return false;
   const T h = std::ldexp(T(1), -max_depth);
   const T width = P.hi - P.lo;
-  if (width <= 64 * h) return false;
+  if (width <= std::ldexp(T(1), 6 - max_depth)) return false;
   const bool neg0 = c0 < 0;
   T sl = 0, sr = 1;
   for (int it = 0; it < 100 && (sr - sl) * width > h; ++it) {
@@ -539,13 +539,22 @@ bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_de
       sr = sm;
   }
   const T ts = P.lo + (sl + sr) / 2 * width;
-  const T a = std::max(P.lo, std::floor(ts / h - 8) * h);
-  const T b = std::min(P.hi, a + 16 * h);
-  if (!(a > P.lo || b < P.hi) || !(a < b)) return false;
-  Bern<3, T> side;
-  if (a > P.lo && definite_sign(side, restrict_to(R.f, R.ef, P.lo, a, side) + dN) == 0) return false;
-  if (b < P.hi && definite_sign(side, restrict_to(R.f, R.ef, b, P.hi, side) + dN) == 0) return false;
-  W.lo = a, W.hi = b, W.depth = max_depth - 4;
+  // Window half-widths 8 h, 256 h, 8192 h: the uncertainty of the sign change may be wider
+  // than a few h when the error bounds are large against the slope of the cubic.
+  T a = 0, b = 0;
+  int k = 3;
+  for (; k <= 13; k += 5) {
+    const T m = std::ldexp(T(1), k);
+    a = std::max(P.lo, std::floor(ts / h - m) * h);
+    b = std::min(P.hi, a + 2 * m * h);
+    if (!(a > P.lo || b < P.hi) || !(a < b)) return false;
+    Bern<3, T> side;
+    if (a > P.lo && definite_sign(side, restrict_to(R.f, R.ef, P.lo, a, side) + dN) == 0) continue;
+    if (b < P.hi && definite_sign(side, restrict_to(R.f, R.ef, b, P.hi, side) + dN) == 0) continue;
+    break;
+  }
+  if (k > 13) return false;
+  W.lo = a, W.hi = b, W.depth = max_depth - k - 1;
   W.ef = restrict_to(R.f, R.ef, a, b, W.f);
   for (int i = 0; i < ng; ++i) W.eg[i] = restrict_to(R.g[i], R.eg[i], a, b, W.g[i]);
   return true;
@@ -626,7 +635,7 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       toi = P.lo;
       return Outcome::Undecided;
     }
-    if (jump_to_root(root, P, ng, S.dN, max_depth, stack[top])) {
+    if (P.depth % 4 == 0 && jump_to_root(root, P, ng, S.dN, max_depth, stack[top])) {
       ++top;
       continue;
     }
