@@ -203,33 +203,39 @@ class Engine {
     while (!st.empty()) {
       const NodePair n = st.back();
       st.pop_back();
-      if (n.a == n.b) {  // self node: three children, no test
-        if (bvh_.leaf(n.a)) continue;
-        const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
-        st.push_back({l, r});
-        st.push_back({r, r});
-        st.push_back({l, l});
-        continue;
-      }
-      const bool la = bvh_.leaf(n.a), lb = bvh_.leaf(n.b);
-      if (la && lb) {
-        const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
-        if (g_.topo.adjacent(s, t)) {
-          ++out.counters.adjacent_leaf_pairs;
-          continue;
-        }
-        if constexpr (record) out.front.push_back(n);
-        ++out.counters.volume_tests;
-        if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaf_pair(s, t, out);
-        continue;
-      }
-      ++out.counters.volume_tests;
-      if (!volumes_[n.a].overlaps(volumes_[n.b])) {
-        if constexpr (record) out.front.push_back(n);
-        continue;
-      }
-      push_children(n, st);
+      visit<record>(n, out, st);
     }
+  }
+
+  /// One BVTT node: a self node yields its three children; a pair node is tested and either
+  /// stops (recorded in the front with `record`) or yields its two children into `next`.
+  template <bool record>
+  void visit(const NodePair n, WorkerOutput& out, std::vector<NodePair>& next) const {
+    if (n.a == n.b) {  // self node: three children, no test
+      if (bvh_.leaf(n.a)) return;
+      const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
+      next.push_back({l, r});
+      next.push_back({r, r});
+      next.push_back({l, l});
+      return;
+    }
+    if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+      const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
+      if (g_.topo.adjacent(s, t)) {
+        ++out.counters.adjacent_leaf_pairs;
+        return;
+      }
+      if constexpr (record) out.front.push_back(n);
+      ++out.counters.volume_tests;
+      if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaf_pair(s, t, out);
+      return;
+    }
+    ++out.counters.volume_tests;
+    if (!volumes_[n.a].overlaps(volumes_[n.b])) {
+      if constexpr (record) out.front.push_back(n);
+      return;
+    }
+    push_children(n, next);
   }
 
   /// Children of an inner pair node: split the non-leaf, or the larger, of the two.
@@ -245,12 +251,34 @@ class Engine {
   }
 
   /// Traversal from the root (the `traverse` method; with `record`, the front build of
-  /// paper algorithms 3-4).
+  /// paper algorithms 3-4), in parallel. The top of the BVTT is visited breadth-first, round
+  /// by round, until at least `min_tasks` nodes wait (or none); each waiting node's subtree
+  /// is then traversed depth-first as one task into outs[1 + i], the top's own work going to
+  /// outs[0]. The split depends only on the geometry, never on the thread count, and every
+  /// node is visited exactly as in a serial traversal: the same tests, stops and contacts.
   template <bool record>
-  void from_root(WorkerOutput& out) const {
-    if (bvh_.size() == 0) return;
-    out.stack.push_back({0, 0});
-    traverse<record>(out);
+  void from_root(std::vector<WorkerOutput>& outs, std::size_t min_tasks = 256) const {
+    if (outs.empty()) outs.resize(1);
+    outs[0].clear();
+    if (bvh_.size() == 0) {
+      outs.resize(1);
+      return;
+    }
+    std::vector<NodePair> tasks{{0, 0}}, next;
+    while (!tasks.empty() && tasks.size() < min_tasks) {
+      next.clear();
+      for (const NodePair& n : tasks) visit<record>(n, outs[0], next);
+      tasks.swap(next);
+    }
+    outs.resize(1 + tasks.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        WorkerOutput& o = outs[1 + i];
+        o.clear();
+        o.stack.push_back(tasks[i]);
+        traverse<record>(o);
+      }
+    });
   }
 
   /// Front tracking of nodes [begin, end) (paper section 4.3-4.4): a disjoint node stays; an

@@ -65,7 +65,8 @@ struct Scene::Impl {
   std::vector<NodePair> front, next_front;
   std::uint64_t sprouted_since_build = 0, invalidated_since_build = 0;
   bool front_valid = false;
-  std::vector<WorkerOutput> outputs;
+  std::vector<WorkerOutput> outputs;       // one per front block
+  std::vector<WorkerOutput> root_outputs;  // one per task of a traversal from the root
 
   Impl(std::vector<TriMesh> ms, SceneOptions opt) : options(opt), meshes(std::move(ms)) {
     if (!(options.min_distance >= 0) || !std::isfinite(options.min_distance))
@@ -146,16 +147,20 @@ struct Scene::Impl {
       eng.brute_force(outputs[0]);
       collect(outputs[0]);
     } else if (method == Method::Traverse) {
-      outputs[0].clear();
-      eng.template from_root<false>(outputs[0]);
-      collect(outputs[0]);
+      eng.template from_root<false>(root_outputs);
+      for (auto& o : root_outputs) collect(o);
     } else if (!front_valid) {
-      WorkerOutput& o = outputs[0];
-      o.clear();
-      eng.template from_root<true>(o);
-      collect(o);
-      sort_by_first_node(o.front, front);  // BVH-node order (paper section 4.8)
-      o.front = std::vector<NodePair>();    // the unsorted copy is not kept
+      eng.template from_root<true>(root_outputs);
+      std::size_t n = 0;
+      for (auto& o : root_outputs) n += o.front.size();
+      std::vector<NodePair> unsorted;
+      unsorted.reserve(n);
+      for (auto& o : root_outputs) {
+        collect(o);
+        unsorted.insert(unsorted.end(), o.front.begin(), o.front.end());
+        o.front = std::vector<NodePair>();  // the pieces are not kept
+      }
+      sort_by_first_node(unsorted, front);  // BVH-node order (paper section 4.8)
       front_valid = true;
       sprouted_since_build = invalidated_since_build = 0;
       st.rebuilds = 1;

@@ -603,10 +603,16 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
     if (excluded) continue;
     if (all_positive) {
       // Every g > 0: contact exactly at the roots of the cubic in the piece.
-      Outcome r = cubic_roots(P, S.dN, max_depth, budget, toi);
+      int md = max_depth;
+      bool end_touch = false;
+      if constexpr (std::is_same_v<T, double>) {
+        end_touch = long_pass && touches_at_end(*long_pass);
+        if (end_touch) md = std::max(P.depth, std::min(max_depth, kCcdCertDepth));
+      }
+      Outcome r = cubic_roots(P, S.dN, md, budget, toi);
       if constexpr (std::is_same_v<T, double>) {
         // A certain touch at t = 1 makes any undecided piece a contact (toi = its start).
-        if (r == Outcome::Undecided && long_pass && touches_at_end(*long_pass)) return Outcome::Hit;
+        if (r == Outcome::Undecided && end_touch) return Outcome::Hit;
         if (r == Outcome::Undecided && long_pass && budget > 0) r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
       }
       if (r == Outcome::Miss) continue;
@@ -785,7 +791,8 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     if (counters) ++counters->hits;
     return true;
   }
-  int budget = kCcdPieceBudget;
+  static const int xb = getenv("XB") ? atoi(getenv("XB")) : kCcdPieceBudget;
+  int budget = xb;
   LongPass lp;
   lp.S = &S;
   lp.counters = counters;

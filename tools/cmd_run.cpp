@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iostream>
 
+#include <oneapi/tbb/info.h>
+
 #include "args.h"
 #include "command.h"
 #include "core/scene.h"
@@ -144,7 +146,7 @@ SceneOptions scene_options(const cli::Args& a) {
 
 int run_cmd(const std::vector<std::string>& args) {
   cli::Args a(args, {"method", "contacts", "substeps", "scene", "size", "frames", "min-distance", "volume",
-                     "rebuild-sprout", "rebuild-invalid"},
+                     "rebuild-sprout", "rebuild-invalid", "threads"},
               {"quiet"});
   const SceneOptions opt = scene_options(a);
   const long substeps = a.get_int("substeps", 1);
@@ -168,7 +170,12 @@ int run_cmd(const std::vector<std::string>& args) {
     meshes.push_back(std::move(seq.mesh));
   }
   ContactWriter writer(a.get("contacts"));
-  Scene scene(meshes, opt);
+  const long threads = a.get_int("threads", tbb::info::default_concurrency());
+  if (threads < 1) throw Error("--threads must be at least 1");
+  tbb::task_arena arena(static_cast<int>(threads));
+  SceneOptions opt_arena = opt;
+  opt_arena.arena = &arena;
+  Scene scene(meshes, opt_arena);
   const Totals t = run_sequence(scene, frames, int(substeps), opt.method, writer, a.has("quiet"));
   writer.finish();
   print_totals(scene, t, opt.method, (frames.size() - 1) * std::size_t(substeps));
@@ -205,7 +212,7 @@ int demo_cmd(const std::vector<std::string>& args) {
 const cli::Command reg_run("run",
                            "run FRAMES... | --scene cloth|spheres|random|tube [--size K] [--frames N]  [--method "
                            "bruteforce|traverse|front] [--substeps K] [--contacts FILE.csv] [--min-distance D] "
-                           "[--volume kdop18|aabb] [--quiet]",
+                           "[--volume kdop18|aabb] [--threads N] [--quiet]",
                            "steps through frames (files, a printf pattern, or a built-in scene) and prints per-step "
                            "contacts, earliest time of impact and statistics",
                            run_cmd);

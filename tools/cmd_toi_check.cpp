@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <unordered_set>
 
+#include <oneapi/tbb/info.h>
+
 #include "args.h"
 #include "command.h"
 #include "core/scene.h"
@@ -65,7 +67,7 @@ fs::path find_one(const fs::path& dir, const std::string& suffix) {
 }
 
 int toi_check(const std::vector<std::string>& args) {
-  cli::Args a(args, {"method", "min-distance"}, {});
+  cli::Args a(args, {"method", "min-distance", "threads"}, {});
   if (a.positional().size() != 1) throw Error("usage: mccd toi-check DIR [--method ...]");
   const fs::path dir = a.positional()[0];
   const Method method = parse_method(a.get("method", "front").c_str());
@@ -79,11 +81,15 @@ int toi_check(const std::vector<std::string>& args) {
   const std::size_t nv = seq.mesh.num_vertices();
   SceneOptions opt;
   opt.min_distance = a.get_double("min-distance", 0.0);
+  const long threads = a.get_int("threads", tbb::info::default_concurrency());
+  if (threads < 1) throw Error("--threads must be at least 1");
+  tbb::task_arena arena(static_cast<int>(threads));
+  opt.arena = &arena;
   Scene scene({seq.mesh}, opt);
   const std::size_t ne = scene.topology().num_edges();
-  std::printf("%s: %zu vertices, %zu triangles, %zu edges; step %s -> %s, method %s\n", dir.string().c_str(), nv,
+  std::printf("%s: %zu vertices, %zu triangles, %zu edges; step %s -> %s, method %s, %ld threads\n", dir.string().c_str(), nv,
               seq.mesh.num_faces(), ne, fs::path(frames[0]).filename().c_str(), fs::path(frames[1]).filename().c_str(),
-              to_string(method));
+              to_string(method), threads);
 
   std::size_t listed_vf = 0, listed_ee = 0;
   const auto vf_true = true_pairs(find_one(dir / "boxes", "vf.json"), find_one(dir / "mma_bool", "vf_mma_bool.json"), listed_vf);
@@ -142,7 +148,7 @@ int toi_check(const std::vector<std::string>& args) {
   return missed ? 1 : 0;
 }
 
-const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|front] [--min-distance D]",
+const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|front] [--min-distance D] [--threads N]",
                        "runs one step of a Time-of-Impact data set scene and checks every true pair is reported",
                        toi_check);
 }  // namespace
