@@ -16,12 +16,10 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#include <cstdlib>
 
 #include "geometry/ccd_detail.h"
 #include "geometry/ccd_exact.h"
 
-long g_pd = 0, g_pl = 0;
 namespace mccd {
 namespace detail {
 namespace {
@@ -554,7 +552,7 @@ bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_de
     break;
   }
   if (k > 13) return false;
-  W.lo = a, W.hi = b, W.depth = max_depth - k - 1;
+  W.lo = a, W.hi = b, W.depth = std::max(P.depth + 1, max_depth - k - 1);
   W.ef = restrict_to(R.f, R.ef, a, b, W.f);
   for (int i = 0; i < ng; ++i) W.eg[i] = restrict_to(R.g[i], R.eg[i], a, b, W.g[i]);
   return true;
@@ -582,9 +580,6 @@ bool touches_at_end(LongPass& lp);
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
                T& toi, LongPass* long_pass) {
-  static const int xd = getenv("XD") ? atoi(getenv("XD")) : 0;
-  static const int xl = getenv("XL") ? atoi(getenv("XL")) : 1;
-  if constexpr (std::is_same_v<T, double>) { if (xd) max_depth = xd; if (!xl) long_pass = nullptr; }
   Piece<T> stack[kCcdMaxDepthLong + 4];
   int top = 0;
   stack[top++] = start;
@@ -592,7 +587,6 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
   while (top > 0) {
     const Piece<T> P = stack[--top];
     --budget;
-    if constexpr (std::is_same_v<T, double>) ++g_pd; else ++g_pl;
     if (definite_sign(P.f, P.ef + S.dN) != 0) continue;
     bool excluded = false, all_positive = true;
     for (int i = 0; i < ng; ++i) {
@@ -601,6 +595,21 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       all_positive = all_positive && sg > 0;
     }
     if (excluded) continue;
+    if constexpr (std::is_same_v<T, double>) {
+      // A proved touch at t = 1 and a piece reaching t = 1: when the cubic is certainly
+      // nonzero on [lo, 1 - 2^-k], the first contact lies in [1 - 2^-k, 1]; toi = 1 - 2^-k.
+      if (P.hi == 1 && long_pass && touches_at_end(*long_pass)) {
+        for (const int k : {40, 24, 12}) {
+          const double b = 1 - std::ldexp(1.0, -k);
+          if (!(b > P.lo)) continue;
+          Bern<3, T> side;
+          if (definite_sign(side, restrict_to(root.f, root.ef, P.lo, b, side) + S.dN) != 0) {
+            toi = b;
+            return Outcome::Hit;
+          }
+        }
+      }
+    }
     if (all_positive) {
       // Every g > 0: contact exactly at the roots of the cubic in the piece.
       int md = max_depth;
@@ -710,8 +719,7 @@ Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi)
     P.ef = restrict_to(lp.root.f, lp.root.ef, P.lo, P.hi, P.f);
     for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
     long double t = 0;
-    static const int xld = getenv("XLD") ? atoi(getenv("XLD")) : kCcdMaxDepthLong;
-    const Outcome r = search(lp.L, lp.root, P, lp.ng, xld, lp.budget, t, static_cast<LongPass*>(nullptr));
+    const Outcome r = search(lp.L, lp.root, P, lp.ng, kCcdMaxDepthLong, lp.budget, t, static_cast<LongPass*>(nullptr));
     if (r != Outcome::Miss) toi = round_down(t);
     return r;
   } else {
@@ -791,16 +799,13 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     if (counters) ++counters->hits;
     return true;
   }
-  static const int xb = getenv("XB") ? atoi(getenv("XB")) : kCcdPieceBudget;
-  int budget = xb;
+  int budget = kCcdPieceBudget;
   LongPass lp;
   lp.S = &S;
   lp.counters = counters;
   lp.points = &p;
   lp.root_d = &root;
   lp.ng_d = ng;
-  static const int xlb = getenv("XLB") ? atoi(getenv("XLB")) : kCcdPieceBudgetLong;
-  lp.budget = xlb;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (r == Outcome::Miss) return false;
   toi = t;

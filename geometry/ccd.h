@@ -24,7 +24,23 @@
 ///      contact when the cubic certainly changes sign and every g_i is certainly positive.
 ///      Undecided pieces are halved; pieces still undecided at 2^-40 are handed to the same
 ///      search in long double (64-bit mantissa, error bounds ~2^11 times smaller) down to
-///      2^-64; what stays undecided is reported as a contact at the start of that piece.
+///      2^-56; what stays undecided is reported as a contact at the start of that piece.
+///      Shortcuts (geometry/ccd_exact.h: exact predicates on the input doubles with
+///      floating-point expansions, behind floating-point filters):
+///       - touching exactly at t = 0 (exact coplanarity and inside tests at the start
+///         positions) is certified at once: toi = 0;
+///       - touching exactly at t = 1 is proved the same way on the end positions (lazily,
+///         once, when the values at t = 1 allow it); then a piece reaching t = 1 whose earlier
+///         part [lo, 1 - 2^-k] (k = 40, 24, 12) is certainly free of coplanarity ends the
+///         search with toi = 1 - 2^-k, and any piece undecided at depth >= 16 ends it with
+///         toi = its start (every earlier piece is cleared, so this is never late);
+///       - on a piece where the cubic certainly changes sign, its sign change is located by
+///         floating-point bisection and the piece is replaced by a window of width 2^(k+1-D)
+///         (D the maximum depth of the pass, k = 3, 8 or 13) around it, once the cubic is
+///         proved (rigorous bounds, polynomials restricted from [0, 1]) certainly nonzero on
+///         the rest of the piece: about D - k levels of bisection are skipped;
+///       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
+///         exhausts them is reported as a contact at the start of the current piece.
 ///
 /// Degenerate cases, none of which can produce a false negative because every clearing
 /// test is a necessary condition of contact proved with rigorous bounds:
@@ -33,7 +49,8 @@
 ///  - parallel or collinear edges, zero-length edges, zero-area faces (g_i == 0 where the
 ///    normal vanishes): only separating directions clear; exact contacts are reported;
 ///  - vertex on an edge, edge endpoint on an edge, touching exactly at t = 0 or t = 1,
-///    tangential (double-root) contact: undecided to the finest piece, then reported;
+///    tangential (double-root) contact: undecided to the finest piece (or the budget), then
+///    reported; touching exactly at t = 0 or t = 1: certified by the exact predicates;
 ///  - coordinates are rescaled by an exact power of two when the largest is outside
 ///    [2^-60, 2^60]; inputs that are not finite, or whose dynamic range exceeds about
 ///    2^1000, are reported as a contact at toi = 0 (conservative).
@@ -42,13 +59,15 @@
 /// contact it lies within 2^-32 of the earliest root of the cubic in the certified piece,
 /// unless the cubic is numerically zero over a wider span (then the start of that span).
 /// For a reported undecided piece it is the start of that piece, the first time the tests
-/// could not clear (at most 2^-40 or 2^-64 before a contact in that piece, earlier when the
-/// primitives stay within rounding distance of each other). With min_distance d > 0 it is
+/// could not clear (at most 2^-40 or 2^-56 before a contact in that piece, earlier when the
+/// primitives stay within rounding distance of each other or a budget ran out). For a proved
+/// touch at t = 1 it is 1 - 2^-40 (1 - 2^-24, 1 - 2^-12) or the start of the first piece
+/// undecided at depth 16. With min_distance d > 0 it is
 /// the start of the first piece that could not be cleared at distance d.
 ///
-/// Cost: ~30 ns (box) and ~100 ns (coplanarity) per query; queries reaching (c) take from
-/// ~1 us to tens of microseconds (exact touching contacts go to the finest pieces twice);
-/// bounded by a piece budget.
+/// Cost: ~20 ns (box) and ~60 ns (coplanarity) per query; queries reaching (c) take from
+/// ~1 us to a few tens of microseconds (near-touching and degenerate touching contacts that
+/// are not at t = 0 or t = 1 still go to fine pieces); bounded by the piece budgets.
 #include <array>
 #include <cstdint>
 

@@ -14,7 +14,7 @@
 namespace mccd::detail {
 namespace {
 
-constexpr int kCap = 64;
+constexpr int kCap = 32;
 
 struct Exp {
   int n = 0;
@@ -46,25 +46,40 @@ inline void push(Exp& h, double x) {
   h.v[h.n++] = x;
 }
 
-// h = e + b (Shewchuk's Grow-Expansion with zero elimination).
-Exp grow(const Exp& e, double b) {
-  Exp h;
-  h.ok = e.ok;
-  double q = b;
-  for (int i = 0; i < e.n; ++i) {
-    double s, t;
-    two_sum(q, e.v[i], s, t);
-    push(h, t);
-    q = s;
-  }
-  push(h, q);
-  return h;
-}
-
+// h = e + f: Shewchuk's Grow-Expansion with zero elimination, once per term of f, in two
+// scratch buffers (no copies of whole expansions).
 Exp sum(const Exp& e, const Exp& f) {
-  Exp h = e;
-  for (int i = 0; i < f.n && h.ok; ++i) h = grow(h, f.v[i]);
-  h.ok = h.ok && f.ok;
+  Exp h;
+  h.ok = e.ok && f.ok;
+  if (!h.ok) return h;
+  double buf[2][2 * kCap + 2];
+  int n = e.n, cur = 0;
+  for (int i = 0; i < n; ++i) buf[0][i] = e.v[i];
+  for (int j = 0; j < f.n; ++j) {
+    const double* src = buf[cur];
+    double* dst = buf[1 - cur];
+    int m = 0;
+    double q = f.v[j];
+    for (int i = 0; i < n; ++i) {
+      double s, t;
+      two_sum(q, src[i], s, t);
+      if (t != 0) dst[m++] = t;
+      q = s;
+    }
+    if (q != 0) dst[m++] = q;
+    n = m;
+    cur = 1 - cur;
+    if (n > 2 * kCap) {
+      h.ok = false;
+      return h;
+    }
+  }
+  if (n > kCap) {
+    h.ok = false;
+    return h;
+  }
+  for (int i = 0; i < n; ++i) h.v[i] = buf[cur][i];
+  h.n = n;
   return h;
 }
 
@@ -169,6 +184,27 @@ bool in_range(const Vec3* p, int n) {
   return true;
 }
 
+// ---- Floating-point filters ---------------------------------------------------------------
+// A value computed in double from the input coordinates with at most k rounding levels along
+// any path differs from the exact one by at most gamma_k * M, M the same expression on
+// absolute values (coordinates in range, so no underflow beyond the 2^-900 term). We use
+// 16 u for the degree-3 expressions (k <= 7) and 32 u for the degree-4 ones (k <= 10), both
+// over gamma_k with room for the rounding of M itself. filt() returns the certain sign, or 2.
+struct D3 {
+  double x, y, z;
+};
+inline D3 dsub(const Vec3& a, const Vec3& b) { return {a.x() - b.x(), a.y() - b.y(), a.z() - b.z()}; }
+inline D3 dabs(D3 a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+inline D3 dcross(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline D3 dacross(D3 a, D3 b) { return {a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x}; }
+inline D3 dadd(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline double ddot(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr double kU = 0x1p-53;
+inline int filt(double v, double mag, double k) {
+  const double err = k * kU * mag + 0x1p-900;
+  return v > err ? 1 : (v < -err ? -1 : 2);
+}
+
 }  // namespace
 
 int exact_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -184,10 +220,22 @@ bool exact_vertex_face_touch(const std::array<Vec3, 4>& pts) {
   const Vec3 &p = pts[0], &a = pts[1], &b = pts[2], &c = pts[3];
   if (p == a || p == b || p == c) return p.allFinite();
   if (!in_range(pts.data(), 4)) return false;
+  // Filter: the coplanarity determinant and the barycentric functions in double.
+  const D3 dA = dsub(a, p), dB = dsub(b, p), dC = dsub(c, p);
+  const D3 mA = dabs(dA), mB = dabs(dB), mC = dabs(dC);
+  const D3 dX = dcross(dB, dC), dY = dcross(dC, dA), dZ = dcross(dA, dB);
+  const D3 mX = dacross(mB, mC), mY = dacross(mC, mA), mZ = dacross(mA, mB);
+  if (filt(ddot(dA, dX), ddot(mA, mX), 16) != 2) return false;  // certainly not coplanar
+  const D3 dn = dadd(dadd(dX, dY), dZ), mn = dadd(dadd(mX, mY), mZ);
+  const int s0 = filt(ddot(dn, dX), ddot(mn, mX), 32), s1 = filt(ddot(dn, dY), ddot(mn, mY), 32),
+            s2 = filt(ddot(dn, dZ), ddot(mn, mZ), 32);
+  if (s0 == -1 || s1 == -1 || s2 == -1) return false;  // certainly outside
+  // Exact: the determinant, then the barycentric functions unless all certainly positive.
   const V3E A = vdiff(a, p), B = vdiff(b, p), C = vdiff(c, p);
   const V3E X = vcross(B, C), Y = vcross(C, A), Z = vcross(A, B);
   const Exp f = vdot(A, X);
   if (!f.ok || sign(f) != 0) return false;
+  if (s0 == 1 && s1 == 1 && s2 == 1) return true;  // n != 0 since n.X > 0
   // n = (b - a) x (c - a) = X + Y + Z; at a coplanar p, n.X, n.Y, n.Z are the barycentric
   // coordinates of p times |n|^2.
   const V3E n = vadd(vadd(X, Y), Z);
@@ -203,12 +251,28 @@ bool exact_edge_edge_touch(const std::array<Vec3, 4>& pts) {
   const Vec3 &a0 = pts[0], &a1 = pts[1], &b0 = pts[2], &b1 = pts[3];
   if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return a0.allFinite() && a1.allFinite();
   if (!in_range(pts.data(), 4)) return false;
+  // Filter in double: coplanarity, then the segment parameters (s, 1 - s, r, 1 - r) |e|^2.
+  int sg[4] = {2, 2, 2, 2};
+  {
+    const D3 dda = dsub(a1, a0), ddb = dsub(b1, b0), dw = dsub(b0, a0);
+    const D3 mda = dabs(dda), mdb = dabs(ddb), mw = dabs(dw);
+    const D3 de = dcross(dda, ddb), me = dacross(mda, mdb);
+    if (filt(ddot(dw, de), ddot(mw, me), 16) != 2) return false;
+    const double ee = ddot(de, de), mee = ddot(me, me);
+    const double sn = ddot(dcross(dw, ddb), de), ms = ddot(dacross(mw, mdb), me);
+    const double rn = ddot(dcross(dw, dda), de), mr = ddot(dacross(mw, mda), me);
+    sg[0] = filt(sn, ms, 32), sg[1] = filt(ee - sn, mee + ms, 40);
+    sg[2] = filt(rn, mr, 32), sg[3] = filt(ee - rn, mee + mr, 40);
+    for (const int g : sg)
+      if (g == -1) return false;
+  }
   const V3E da = vdiff(a1, a0), db = vdiff(b1, b0), w = vdiff(b0, a0);
   const V3E e = vcross(da, db);
   if (!all_ok(e) || is_zero(e)) return false;  // parallel (or degenerate) edges: not decided
   const Exp f = vdot(w, e);
   if (!f.ok || sign(f) != 0) return false;
   // a0 + s da = b0 + r db with s = (w x db).e / |e|^2 and r = (w x da).e / |e|^2.
+  if (sg[0] == 1 && sg[1] == 1 && sg[2] == 1 && sg[3] == 1) return true;
   const Exp ee = vdot(e, e);
   const Exp s = vdot(vcross(w, db), e);
   const Exp r = vdot(vcross(w, da), e);
