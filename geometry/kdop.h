@@ -7,11 +7,26 @@
 ///   | axis | x | y | z | x+y | x-y | x+z | x-z | y+z | y-z |
 /// Dop<3> is the axis-aligned box (first three slabs), Dop<9> the 18-DOP.
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "geometry/mesh.h"
 
 namespace mccd {
+
+/// The next float toward -inf / +inf (std::nextafter without the library call; finite
+/// inputs and infinities as std::nextafter, NaN not expected).
+inline float float_down(float f) {
+  if (f != f || f == -std::numeric_limits<float>::infinity()) return f;
+  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  u = f > 0 ? u - 1 : u + 1;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+inline float float_up(float f) { return -float_down(-f); }
 
 template <int Slabs>
 struct Dop {
@@ -58,8 +73,8 @@ struct Dop {
     project(p, pr);
     for (int i = 0; i < Slabs; ++i) {
       const float f = static_cast<float>(pr[i]);
-      const float l = std::nextafter(f, -std::numeric_limits<float>::infinity());
-      const float h = std::nextafter(f, std::numeric_limits<float>::infinity());
+      const float l = float_down(f);
+      const float h = float_up(f);
       lo[i] = l < lo[i] ? l : lo[i];
       hi[i] = h > hi[i] ? h : hi[i];
     }
@@ -84,8 +99,8 @@ struct Dop {
   /// keeps every pair within distance d overlapping.
   void inflate(double d) {
     for (int i = 0; i < Slabs; ++i) {
-      lo[i] = std::nextafter(static_cast<float>(lo[i] - d), -std::numeric_limits<float>::infinity());
-      hi[i] = std::nextafter(static_cast<float>(hi[i] + d), std::numeric_limits<float>::infinity());
+      lo[i] = float_down(static_cast<float>(lo[i] - d));
+      hi[i] = float_up(static_cast<float>(hi[i] + d));
     }
   }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
 #include <random>
 
 using namespace mccd;
@@ -66,4 +68,22 @@ TEST(Kdop, InflateCoversDistance) {
   a3.inflate(0.26);
   b3.inflate(0.26);
   EXPECT_FALSE(a3.overlaps(b3));
+}
+
+TEST(Kdop, FloatStepsMatchNextafter) {
+  const float inf = std::numeric_limits<float>::infinity();
+  std::mt19937 rng(11);
+  std::vector<float> values = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min(),
+                               -std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::max(),
+                               -std::numeric_limits<float>::max(), std::numeric_limits<float>::min(), inf, -inf};
+  for (int i = 0; i < 10000; ++i) {
+    std::uint32_t u = rng();
+    float f;
+    std::memcpy(&f, &u, 4);
+    if (f == f) values.push_back(f);
+  }
+  for (float f : values) {
+    EXPECT_EQ(float_down(f), std::nextafter(f, -inf)) << f;
+    EXPECT_EQ(float_up(f), std::nextafter(f, inf)) << f;
+  }
 }
