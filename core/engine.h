@@ -94,6 +94,7 @@ class Engine {
     vertex_volumes_.resize(g_.topo.num_vertices());
     edge_volumes_.resize(g_.topo.num_edges());
     for (auto& pv : piece_volumes_) pv.resize(g_.topo.num_vertices());
+    for (auto& pv : face_piece_volumes_) pv.resize(g_.topo.num_faces());
     plan_refit();
   }
 
@@ -132,6 +133,19 @@ class Engine {
             piece_volumes_[0][v] = piece(0, 2);
             piece_volumes_[1][v] = piece(2, 4);
             for (int k = 0; k < 4; ++k) piece_volumes_[2 + k][v] = piece(k, k + 1);
+          }
+        },
+        tbb::static_partitioner());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, g_.topo.num_faces(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const Triangle& t = g_.topo.faces()[f];
+            for (int k = 0; k < 6; ++k) {
+              BV d = BV::merged(piece_volumes_[k][t[0]], piece_volumes_[k][t[1]]);
+              d.merge(piece_volumes_[k][t[2]]);
+              face_piece_volumes_[k][f] = d;
+            }
           }
         },
         tbb::static_partitioner());
@@ -219,6 +233,13 @@ class Engine {
     return false;
   }
 
+  bool faces_overlap_in_pieces(std::uint32_t s, std::uint32_t t) const {
+    auto overlap = [&](int k) { return face_piece_volumes_[k][s].overlaps(face_piece_volumes_[k][t]); };
+    for (int h = 0; h < 2; ++h)
+      if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
+    return false;
+  }
+
   /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).
   void process_leaf_pair(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
     ++out.counters.leaf_pairs;
@@ -226,7 +247,7 @@ class Engine {
     const Triangle& T = g_.topo.faces()[t];
     // Every feature of s and t lies in its triangle during each piece of the step: when the
     // triangles' piece volumes never meet, no feature pair below can pass its own test.
-    if (!halves_overlap({S[0], S[1], S[2]}, {T[0], T[1], T[2]})) return;
+    if (!faces_overlap_in_pieces(s, t)) return;
     for (auto v : S)
       if (g_.features.carries_vf(v, s, t)) test_vf(v, t, out);
     for (auto v : T)
@@ -459,6 +480,7 @@ class Engine {
   /// Per vertex, its path over the pieces of the step: [0, 1/2], [1/2, 1] (pieces 0, 1),
   /// then the quarters [k/4, (k+1)/4] (pieces 2..5).
   std::vector<BV> piece_volumes_[6];
+  std::vector<BV> face_piece_volumes_[6];  ///< per face: merge of its vertices' pieces
   std::vector<std::uint32_t> refit_roots_;  ///< subtrees refitted in parallel
   std::vector<std::uint32_t> refit_top_;    ///< inner nodes above them, ascending
 };
