@@ -193,7 +193,7 @@ class Engine {
     ++out.counters.feature_box_tests;
     if (!vertex_volumes_[v].overlaps(volumes_[bvh_.leaf_of(f)])) return;
     const Triangle& t = g_.topo.faces()[f];
-    if (!halves_overlap({v}, {t[0], t[1], t[2]})) return;
+    if (!vertex_face_pieces_overlap(v, f)) return;
     ++out.counters.vf_tests;
     CcdPoints p;
     const std::uint32_t ids[4] = {v, t[0], t[1], t[2]};
@@ -228,6 +228,13 @@ class Engine {
       for (auto v : q) b.merge(piece_volumes_[piece][v]);
       return a.overlaps(b);
     };
+    for (int h = 0; h < 2; ++h)
+      if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
+    return false;
+  }
+
+  bool vertex_face_pieces_overlap(std::uint32_t v, std::uint32_t f) const {
+    auto overlap = [&](int k) { return piece_volumes_[k][v].overlaps(face_piece_volumes_[k][f]); };
     for (int h = 0; h < 2; ++h)
       if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
     return false;
