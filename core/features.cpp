@@ -55,4 +55,41 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   }
 }
 
+StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
+  StaticOrphanCounts c;
+  std::vector<std::uint32_t> candidates;
+  // VF: v's assigned face f0 is adjacent to f (and v not a corner of f).
+  for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
+    if (topo.vertex_face_count(v) == 0) continue;
+    const std::uint32_t f0 = *topo.vertex_faces_begin(v);
+    candidates.clear();
+    for (auto w : topo.faces()[f0])
+      candidates.insert(candidates.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (auto f : candidates) {
+      const Triangle& t = topo.faces()[f];
+      if (t[0] != v && t[1] != v && t[2] != v) ++c.vf;
+    }
+  }
+  // EE: the assigned faces of a and b (a < b, no shared vertex) are adjacent.
+  for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
+    const std::uint32_t fa = *topo.edge_faces_begin(a);
+    const Edge& ea = topo.edges()[a];
+    candidates.clear();
+    for (auto w : topo.faces()[fa])
+      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
+        for (auto b : topo.face_edges(*g))
+          if (b > a) candidates.push_back(b);
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (auto b : candidates) {
+      const Edge& eb = topo.edges()[b];
+      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      if (topo.adjacent(fa, *topo.edge_faces_begin(b))) ++c.ee;
+    }
+  }
+  return c;
+}
+
 }  // namespace mccd

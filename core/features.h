@@ -20,6 +20,14 @@
 
 namespace mccd {
 
+/// For comparison only: the orphan set sizes a *static* representative rule would give, where
+/// each vertex and each edge is assigned to its first (lowest id) incident triangle and a pair
+/// is tested by the pair of assigned triangles unless those are adjacent.
+struct StaticOrphanCounts {
+  std::size_t vf = 0, ee = 0;
+};
+StaticOrphanCounts static_orphan_counts(const MeshTopology& topo);
+
 class FeaturePairs {
  public:
   FeaturePairs() = default;

@@ -61,3 +61,16 @@ TEST(FeaturePairs, OrphansAreFewOnAGrid) {
   EXPECT_LT(fp.orphan_vf().size(), 2 * g.num_vertices());
   EXPECT_LT(fp.orphan_ee().size(), 2 * topo.num_edges());
 }
+
+TEST(FeaturePairs, CanonicalOrphanSetIsNoLargerThanStatic) {
+  // The canonical rule only orphans pairs with no non-adjacent carrier at all, a subset of
+  // the pairs whose statically assigned triangles happen to be adjacent.
+  for (const TriMesh& m : {make_grid_mesh(12), make_sphere_mesh(8, 12), make_twisting_tube(10, 9, 2).meshes[0]}) {
+    MeshTopology topo(m.num_vertices(), m.faces);
+    FeaturePairs fp(topo);
+    const StaticOrphanCounts st = static_orphan_counts(topo);
+    EXPECT_LE(fp.orphan_vf().size(), st.vf);
+    EXPECT_LE(fp.orphan_ee().size(), st.ee);
+    EXPECT_GT(st.vf, fp.orphan_vf().size());  // and strictly smaller on these meshes
+  }
+}
