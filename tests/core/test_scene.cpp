@@ -253,7 +253,9 @@ TEST(SceneContacts, OrphanPairsAreFoundBetweenAdjacentTriangles) {
     bool found = false;
     for (const Contact& c : r.contacts) found |= c.kind == ContactKind::VertexFace && c.a == 3 && c.b == 0;
     EXPECT_TRUE(found) << to_string(meth);
-    if (meth != Method::BruteForce) EXPECT_GE(r.stats.orphan_vf_tested, 1u);
+    if (meth != Method::BruteForce) {
+      EXPECT_GE(r.stats.orphan_vf_tested, 1u);
+    }
   }
 }
 
@@ -275,4 +277,23 @@ TEST(SceneThreads, ResultsDoNotDependOnThreadCount) {
     EXPECT_EQ(ra.stats.sprouted, rc.stats.sprouted);
     EXPECT_EQ(ra.stats.rebuilds, rc.stats.rebuilds);
   }
+}
+
+TEST(SceneInput, EmptyAndTinyScenes) {
+  Scene empty(std::vector<TriMesh>{});
+  StepResult r = empty.step(std::vector<PositionsView>{}, std::vector<PositionsView>{});
+  EXPECT_TRUE(r.contacts.empty());
+  // one triangle, plus a vertex used by no triangle (it takes part in nothing)
+  TriMesh one;
+  one.vertices.resize(4, 3);
+  one.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 1;
+  one.faces = {{0, 1, 2}};
+  Scene s({one});
+  Positions end = one.vertices;
+  end(3, 2) = -1;  // the loose vertex passes through the triangle: not a contact
+  for (Method m : {Method::BruteForce, Method::Traverse, Method::Front}) {
+    StepResult q = s.step(one.vertices, end, m);
+    EXPECT_TRUE(q.contacts.empty()) << to_string(m);
+  }
+  EXPECT_EQ(s.orphan_vf_count(), 0u);
 }
