@@ -10,6 +10,7 @@
 /// every BVH node above it, so whenever the feature test passes, every carrier pair and all
 /// its ancestors overlap and every method reaches the pair.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <initializer_list>
@@ -93,8 +94,8 @@ class Engine {
     volumes_.resize(bvh_.size());
     vertex_volumes_.resize(g_.topo.num_vertices());
     edge_volumes_.resize(g_.topo.num_edges());
-    for (auto& pv : piece_volumes_) pv.resize(g_.topo.num_vertices());
-    for (auto& pv : face_piece_volumes_) pv.resize(g_.topo.num_faces());
+    piece_volumes_.resize(g_.topo.num_vertices());
+    face_piece_volumes_.resize(g_.topo.num_faces());
     plan_refit();
   }
 
@@ -130,9 +131,9 @@ class Engine {
               h.inflate(margin);
               return h;
             };
-            piece_volumes_[0][v] = piece(0, 2);
-            piece_volumes_[1][v] = piece(2, 4);
-            for (int k = 0; k < 4; ++k) piece_volumes_[2 + k][v] = piece(k, k + 1);
+            piece_volumes_[v][0] = piece(0, 2);
+            piece_volumes_[v][1] = piece(2, 4);
+            for (int k = 0; k < 4; ++k) piece_volumes_[v][2 + k] = piece(k, k + 1);
           }
         },
         tbb::static_partitioner());
@@ -142,9 +143,9 @@ class Engine {
           for (std::size_t f = r.begin(); f != r.end(); ++f) {
             const Triangle& t = g_.topo.faces()[f];
             for (int k = 0; k < 6; ++k) {
-              BV d = BV::merged(piece_volumes_[k][t[0]], piece_volumes_[k][t[1]]);
-              d.merge(piece_volumes_[k][t[2]]);
-              face_piece_volumes_[k][f] = d;
+              BV d = BV::merged(piece_volumes_[t[0]][k], piece_volumes_[t[1]][k]);
+              d.merge(piece_volumes_[t[2]][k]);
+              face_piece_volumes_[f][k] = d;
             }
           }
         },
@@ -224,8 +225,8 @@ class Engine {
   bool halves_overlap(std::initializer_list<std::uint32_t> p, std::initializer_list<std::uint32_t> q) const {
     auto overlap = [&](int piece) {
       BV a = BV::empty(), b = BV::empty();
-      for (auto v : p) a.merge(piece_volumes_[piece][v]);
-      for (auto v : q) b.merge(piece_volumes_[piece][v]);
+      for (auto v : p) a.merge(piece_volumes_[v][piece]);
+      for (auto v : q) b.merge(piece_volumes_[v][piece]);
       return a.overlaps(b);
     };
     for (int h = 0; h < 2; ++h)
@@ -234,14 +235,14 @@ class Engine {
   }
 
   bool vertex_face_pieces_overlap(std::uint32_t v, std::uint32_t f) const {
-    auto overlap = [&](int k) { return piece_volumes_[k][v].overlaps(face_piece_volumes_[k][f]); };
+    auto overlap = [&](int k) { return piece_volumes_[v][k].overlaps(face_piece_volumes_[f][k]); };
     for (int h = 0; h < 2; ++h)
       if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
     return false;
   }
 
   bool faces_overlap_in_pieces(std::uint32_t s, std::uint32_t t) const {
-    auto overlap = [&](int k) { return face_piece_volumes_[k][s].overlaps(face_piece_volumes_[k][t]); };
+    auto overlap = [&](int k) { return face_piece_volumes_[s][k].overlaps(face_piece_volumes_[t][k]); };
     for (int h = 0; h < 2; ++h)
       if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
     return false;
@@ -486,8 +487,8 @@ class Engine {
   std::vector<BV> edge_volumes_;    ///< one per edge: merge of its two vertex volumes
   /// Per vertex, its path over the pieces of the step: [0, 1/2], [1/2, 1] (pieces 0, 1),
   /// then the quarters [k/4, (k+1)/4] (pieces 2..5).
-  std::vector<BV> piece_volumes_[6];
-  std::vector<BV> face_piece_volumes_[6];  ///< per face: merge of its vertices' pieces
+  std::vector<std::array<BV, 6>> piece_volumes_;
+  std::vector<std::array<BV, 6>> face_piece_volumes_;  ///< per face: merge of its vertices' pieces
   std::vector<std::uint32_t> refit_roots_;  ///< subtrees refitted in parallel
   std::vector<std::uint32_t> refit_top_;    ///< inner nodes above them, ascending
 };
