@@ -4,6 +4,31 @@
 
 namespace mccd {
 
+namespace {
+
+/// The faces sharing a vertex with face f0 (f0 included), ascending, into `out`.
+void faces_near(const MeshTopology& topo, std::uint32_t f0, std::vector<std::uint32_t>& out) {
+  out.clear();
+  for (auto w : topo.faces()[f0]) out.insert(out.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+/// The edges above `a` of the faces sharing a vertex with face f0, ascending, into `out`.
+void edges_near(const MeshTopology& topo, std::uint32_t f0, std::uint32_t a, std::vector<std::uint32_t>& out) {
+  out.clear();
+  for (auto w : topo.faces()[f0])
+    for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
+      for (auto b : topo.face_edges(*g))
+        if (b > a) out.push_back(b);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+bool share_vertex(const Edge& x, const Edge& y) { return x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]; }
+
+}  // namespace
+
 FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   const std::size_t nv = topo.num_vertices();
   first_face_.assign(nv, 0);
@@ -16,12 +41,7 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   // (f0), so it is among the faces around f0's corners.
   for (std::uint32_t v = 0; v < nv; ++v) {
     if (topo.vertex_face_count(v) == 0) continue;
-    const std::uint32_t f0 = *topo.vertex_faces_begin(v);
-    candidates.clear();
-    for (auto w : topo.faces()[f0])
-      candidates.insert(candidates.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    faces_near(topo, *topo.vertex_faces_begin(v), candidates);
     for (auto f : candidates) {
       const Triangle& tf = topo.faces()[f];
       if (tf[0] == v || tf[1] == v || tf[2] == v) continue;
@@ -34,18 +54,10 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   // EE: every face around b is adjacent to the first face around a, so b is an edge of a
   // face around one of that face's corners.
   for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
-    const std::uint32_t f0 = *topo.edge_faces_begin(a);
     const Edge& ea = topo.edges()[a];
-    candidates.clear();
-    for (auto w : topo.faces()[f0])
-      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
-        for (auto b : topo.face_edges(*g))
-          if (b > a) candidates.push_back(b);
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    edges_near(topo, *topo.edge_faces_begin(a), a, candidates);
     for (auto b : candidates) {
-      const Edge& eb = topo.edges()[b];
-      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      if (share_vertex(ea, topo.edges()[b])) continue;
       bool all_adjacent = true;
       for (auto* f = topo.edge_faces_begin(a); f != topo.edge_faces_end(a) && all_adjacent; ++f)
         for (auto* g = topo.edge_faces_begin(b); g != topo.edge_faces_end(b) && all_adjacent; ++g)
@@ -61,12 +73,7 @@ StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
   // VF: v's assigned face f0 is adjacent to f (and v not a corner of f).
   for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
     if (topo.vertex_face_count(v) == 0) continue;
-    const std::uint32_t f0 = *topo.vertex_faces_begin(v);
-    candidates.clear();
-    for (auto w : topo.faces()[f0])
-      candidates.insert(candidates.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    faces_near(topo, *topo.vertex_faces_begin(v), candidates);
     for (auto f : candidates) {
       const Triangle& t = topo.faces()[f];
       if (t[0] != v && t[1] != v && t[2] != v) ++c.vf;
@@ -76,16 +83,9 @@ StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
   for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
     const std::uint32_t fa = *topo.edge_faces_begin(a);
     const Edge& ea = topo.edges()[a];
-    candidates.clear();
-    for (auto w : topo.faces()[fa])
-      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
-        for (auto b : topo.face_edges(*g))
-          if (b > a) candidates.push_back(b);
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    edges_near(topo, fa, a, candidates);
     for (auto b : candidates) {
-      const Edge& eb = topo.edges()[b];
-      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      if (share_vertex(ea, topo.edges()[b])) continue;
       if (topo.adjacent(fa, *topo.edge_faces_begin(b))) ++c.ee;
     }
   }

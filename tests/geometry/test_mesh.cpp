@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/error.h"
+#include "support/errors.h"
 
 using namespace mccd;
 
@@ -59,14 +60,7 @@ TriMesh two_triangles() {
   return m;
 }
 
-std::string error_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
+using mccd::test::error_of;
 
 }  // namespace
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "geometry/error.h"
+#include "support/errors.h"
 #include "support/data.h"
 
 using namespace mccd;
@@ -51,15 +52,7 @@ class TempDir {
   fs::path path_;
 };
 
-/// The message of the mccd::Error `fn` throws ("(no exception)" when none).
-std::string error_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
+using mccd::test::error_of;
 
 #define EXPECT_ERROR_CONTAINS(stmt, text)                                              \
   do {                                                                                 \
