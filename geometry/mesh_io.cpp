@@ -899,36 +899,43 @@ std::vector<std::string> expand_frame_pattern(const std::string& pattern) {
   return out;
 }
 
-FrameSequence read_frames(const std::vector<std::string>& paths_or_pattern) {
+std::vector<std::string> frame_paths(const std::vector<std::string>& paths_or_pattern) {
   std::vector<std::string> paths;
   if (paths_or_pattern.size() == 1 && paths_or_pattern[0].find('%') != std::string::npos)
     paths = expand_frame_pattern(paths_or_pattern[0]);
   else
     paths = paths_or_pattern;
   if (paths.empty()) throw Error("read_frames: no frame files given");
+  return paths;
+}
+
+Positions read_frame(const std::string& path, std::size_t index, const TriMesh& first, const std::string& first_path) {
+  TriMesh m = read_mesh(path);
+  const std::string what = path + " (frame " + std::to_string(index) + ")";
+  if (m.num_vertices() != first.num_vertices())
+    throw Error(what + ": has " + std::to_string(m.num_vertices()) + " vertices, expected " +
+                std::to_string(first.num_vertices()) + " as in " + first_path);
+  const std::size_t n = std::min(m.num_faces(), first.num_faces());
+  for (std::size_t f = 0; f < n; ++f)
+    if (m.faces[f] != first.faces[f])
+      throw Error(what + ": face " + std::to_string(f) + " is " + face_str(m.faces[f]) + ", expected " +
+                  face_str(first.faces[f]) + " as in " + first_path);
+  if (m.num_faces() != first.num_faces())
+    throw Error(what + ": has " + std::to_string(m.num_faces()) + " triangles, expected " +
+                std::to_string(first.num_faces()) + " as in " + first_path + " (first differing face " +
+                std::to_string(n) + ")");
+  return std::move(m.vertices);
+}
+
+FrameSequence read_frames(const std::vector<std::string>& paths_or_pattern) {
+  const std::vector<std::string> paths = frame_paths(paths_or_pattern);
   FrameSequence seq;
   seq.frames.reserve(paths.size());
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    TriMesh m = read_mesh(paths[i]);
-    if (i == 0) {
-      seq.frames.push_back(m.vertices);
-      seq.mesh = std::move(m);
-    } else {
-      const std::string what = paths[i] + " (frame " + std::to_string(i) + ")";
-      if (m.num_vertices() != seq.mesh.num_vertices())
-        throw Error(what + ": has " + std::to_string(m.num_vertices()) + " vertices, expected " +
-                    std::to_string(seq.mesh.num_vertices()) + " as in " + paths[0]);
-      const std::size_t n = std::min(m.num_faces(), seq.mesh.num_faces());
-      for (std::size_t f = 0; f < n; ++f)
-        if (m.faces[f] != seq.mesh.faces[f])
-          throw Error(what + ": face " + std::to_string(f) + " is " + face_str(m.faces[f]) + ", expected " +
-                      face_str(seq.mesh.faces[f]) + " as in " + paths[0]);
-      if (m.num_faces() != seq.mesh.num_faces())
-        throw Error(what + ": has " + std::to_string(m.num_faces()) + " triangles, expected " +
-                    std::to_string(seq.mesh.num_faces()) + " as in " + paths[0] + " (first differing face " +
-                    std::to_string(n) + ")");
-      seq.frames.push_back(std::move(m.vertices));
-    }
+  seq.mesh = read_mesh(paths[0]);
+  seq.frames.push_back(seq.mesh.vertices);
+  seq.paths.push_back(paths[0]);
+  for (std::size_t i = 1; i < paths.size(); ++i) {
+    seq.frames.push_back(read_frame(paths[i], i, seq.mesh, paths[0]));
     seq.paths.push_back(paths[i]);
   }
   return seq;

@@ -42,4 +42,12 @@ struct FrameSequence {
 /// Loads the given files, or the files matching one pattern when a single path contains '%'.
 FrameSequence read_frames(const std::vector<std::string>& paths_or_pattern);
 
+/// The frame files of a sequence: the given files, or those matching one pattern when a single
+/// path contains '%'. Throws when there are none.
+std::vector<std::string> frame_paths(const std::vector<std::string>& paths_or_pattern);
+/// Reads frame `index` of a sequence from `path`: it must have the vertex count and the
+/// triangle list of `first` (read from `first_path`); a mismatch throws naming the frame file
+/// and the first differing face. Returns its positions.
+Positions read_frame(const std::string& path, std::size_t index, const TriMesh& first, const std::string& first_path);
+
 }  // namespace mccd

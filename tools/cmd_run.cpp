@@ -13,6 +13,7 @@
 #include "core/scene.h"
 #include "core/scenes.h"
 #include "geometry/mesh_io.h"
+#include "parallel/frame_pipeline.h"
 
 namespace {
 
@@ -21,6 +22,7 @@ using namespace mccd;
 struct Totals {
   std::uint64_t volume_tests = 0, vf_tests = 0, ee_tests = 0, contacts = 0, rebuilds = 0;
   std::uint64_t last_front = 0, last_adjacent = 0;  // at the last front build
+  std::size_t steps = 0;
   double seconds = 0;
 };
 
@@ -85,39 +87,49 @@ class ContactWriter {
   bool done_ = false;
 };
 
-/// Runs frames[0] -> frames[1] -> ... with `substeps` linear sub-steps per interval.
-Totals run_sequence(Scene& scene, const std::vector<std::vector<Positions>>& frames, int substeps, Method method,
-                    ContactWriter& writer, bool quiet) {
+/// Runs the frames of `source` after `first` through the frame pipeline (reading, stepping and
+/// writing overlap), with `substeps` linear sub-steps per interval.
+Totals run_sequence(Scene& scene, std::vector<Positions> first, const FrameSource& source, int substeps,
+                    Method method, ContactWriter& writer, bool quiet) {
   Totals t;
   if (!quiet) print_header();
-  std::size_t step = 0;
-  std::vector<Positions> prev = frames[0], cur = frames[0];
-  for (std::size_t f = 1; f < frames.size(); ++f) {
-    for (int k = 1; k <= substeps; ++k) {
-      const double u = double(k) / substeps;
-      for (std::size_t m = 0; m < cur.size(); ++m) cur[m] = (1 - u) * frames[f - 1][m] + u * frames[f][m];
-      StepResult r = scene.step(std::vector<PositionsView>(prev.begin(), prev.end()),
-                                std::vector<PositionsView>(cur.begin(), cur.end()), method);
-      std::swap(prev, cur);
-      ++step;
-      if (!quiet) print_row(step, r);
-      writer.add(step, r);
-      t.volume_tests += r.stats.volume_tests;
-      t.vf_tests += r.stats.vf_tests;
-      t.ee_tests += r.stats.ee_tests;
-      t.contacts += r.contacts.size();
-      t.rebuilds += r.stats.rebuilds;
-      if (r.stats.rebuilds) {
-        t.last_front = r.stats.front_size;
-        t.last_adjacent = r.stats.adjacent_leaf_pairs;
-      }
-      t.seconds += r.stats.t_total;
-    }
-  }
+  PipelineOptions po;
+  po.substeps = substeps;
+  po.method = method;
+  run_frame_pipeline(
+      scene, std::move(first), source,
+      [&](const PipelineStep& s) {
+        const StepResult& r = s.result;
+        if (!quiet) print_row(s.index, r);
+        writer.add(s.index, r);
+        t.volume_tests += r.stats.volume_tests;
+        t.vf_tests += r.stats.vf_tests;
+        t.ee_tests += r.stats.ee_tests;
+        t.contacts += r.contacts.size();
+        t.rebuilds += r.stats.rebuilds;
+        if (r.stats.rebuilds) {
+          t.last_front = r.stats.front_size;
+          t.last_adjacent = r.stats.adjacent_leaf_pairs;
+        }
+        t.seconds += r.stats.t_total;
+        ++t.steps;
+      },
+      po);
   return t;
 }
 
-void print_totals(const Scene& scene, const Totals& t, Method method, std::size_t steps) {
+/// A source over frames already in memory (frames[1], frames[2], ...).
+FrameSource from_memory(const std::vector<std::vector<Positions>>& frames) {
+  auto next = std::make_shared<std::size_t>(1);
+  return [&frames, next](std::vector<Positions>& out) {
+    if (*next >= frames.size()) return false;
+    out = frames[(*next)++];
+    return true;
+  };
+}
+
+void print_totals(const Scene& scene, const Totals& t, Method method) {
+  const std::size_t steps = t.steps;
   std::printf("total over %zu steps (%s): contacts %llu, volume tests %llu, VF tests %llu, EE tests %llu, "
               "front rebuilds %llu, %.3f s\n",
               steps, to_string(method), (unsigned long long)t.contacts, (unsigned long long)t.volume_tests,
@@ -151,34 +163,42 @@ int run_cmd(const std::vector<std::string>& args) {
   const SceneOptions opt = scene_options(a);
   const long substeps = a.get_int("substeps", 1);
   if (substeps < 1) throw Error("--substeps must be at least 1");
-  std::vector<TriMesh> meshes;
-  std::vector<std::vector<Positions>> frames;
-  if (a.has("scene")) {
-    if (!a.positional().empty()) throw Error("give either frame files or --scene, not both");
-    AnimatedScene s = make_scene(a.get("scene"), int(a.get_int("size", 4)), int(a.get_int("frames", 31)));
-    std::printf("scene %s: %zu meshes, %zu triangles, %zu frames\n", s.name.c_str(), s.meshes.size(),
-                s.num_triangles(), s.frames.size());
-    meshes = std::move(s.meshes);
-    frames = std::move(s.frames);
-  } else {
-    if (a.positional().empty()) throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene)");
-    FrameSequence seq = read_frames(a.positional());
-    if (seq.frames.size() < 2) throw Error("need at least two frames, got " + std::to_string(seq.frames.size()));
-    std::printf("%zu frames of %s: %zu vertices, %zu triangles\n", seq.frames.size(), seq.paths[0].c_str(),
-                seq.mesh.num_vertices(), seq.mesh.num_faces());
-    for (auto& f : seq.frames) frames.push_back({std::move(f)});
-    meshes.push_back(std::move(seq.mesh));
-  }
   ContactWriter writer(a.get("contacts"));
   const long threads = a.get_int("threads", tbb::info::default_concurrency());
   if (threads < 1) throw Error("--threads must be at least 1");
   tbb::task_arena arena(static_cast<int>(threads));
   SceneOptions opt_arena = opt;
   opt_arena.arena = &arena;
-  Scene scene(meshes, opt_arena);
-  const Totals t = run_sequence(scene, frames, int(substeps), opt.method, writer, a.has("quiet"));
-  writer.finish();
-  print_totals(scene, t, opt.method, (frames.size() - 1) * std::size_t(substeps));
+  Totals t;
+  if (a.has("scene")) {
+    if (!a.positional().empty()) throw Error("give either frame files or --scene, not both");
+    AnimatedScene s = make_scene(a.get("scene"), int(a.get_int("size", 4)), int(a.get_int("frames", 31)));
+    std::printf("scene %s: %zu meshes, %zu triangles, %zu frames\n", s.name.c_str(), s.meshes.size(),
+                s.num_triangles(), s.frames.size());
+    Scene scene(s.meshes, opt_arena);
+    t = run_sequence(scene, s.frames[0], from_memory(s.frames), int(substeps), opt.method, writer, a.has("quiet"));
+    writer.finish();
+    print_totals(scene, t, opt.method);
+  } else {
+    if (a.positional().empty()) throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene)");
+    // Frames are read one at a time, ahead of the step that needs them (the frame pipeline).
+    const std::vector<std::string> paths = frame_paths(a.positional());
+    if (paths.size() < 2) throw Error("need at least two frames, got " + std::to_string(paths.size()));
+    TriMesh first = read_mesh(paths[0]);
+    std::printf("%zu frames of %s: %zu vertices, %zu triangles\n", paths.size(), paths[0].c_str(),
+                first.num_vertices(), first.num_faces());
+    Scene scene({first}, opt_arena);
+    std::size_t next = 1;
+    FrameSource source = [&](std::vector<Positions>& out) {
+      if (next >= paths.size()) return false;
+      out.assign(1, read_frame(paths[next], next, first, paths[0]));
+      ++next;
+      return true;
+    };
+    t = run_sequence(scene, {first.vertices}, source, int(substeps), opt.method, writer, a.has("quiet"));
+    writer.finish();
+    print_totals(scene, t, opt.method);
+  }
   return 0;
 }
 
@@ -194,8 +214,8 @@ int demo_cmd(const std::vector<std::string>& args) {
   for (int i = 0; i < 2; ++i) {
     Scene scene(s.meshes);
     if (i == 1) std::printf("\nmethod front, per step:\n");
-    per[i] = run_sequence(scene, s.frames, 1, methods[i], none, i == 0);
-    if (i == 1) print_totals(scene, per[i], methods[i], s.frames.size() - 1);
+    per[i] = run_sequence(scene, s.frames[0], from_memory(s.frames), 1, methods[i], none, i == 0);
+    if (i == 1) print_totals(scene, per[i], methods[i]);
   }
   std::printf("\ntraverse: %llu volume tests, %.3f s; front: %llu volume tests (%.1f%% fewer), %.3f s\n",
               (unsigned long long)per[0].volume_tests, per[0].seconds, (unsigned long long)per[1].volume_tests,

@@ -8,6 +8,9 @@
 #include <fstream>
 #include <string>
 
+#include "core/scene.h"
+#include "core/scenes.h"
+#include "geometry/mesh_io.h"
 #include "support/data.h"
 
 namespace fs = std::filesystem;
@@ -109,4 +112,39 @@ TEST(CliDemo, RunsAndAgrees) {
   Out o = run_cli("demo --size 2 --frames 11");
   EXPECT_EQ(o.status, 0) << o.text;
   EXPECT_NE(o.text.find("fewer"), std::string::npos) << o.text;
+}
+
+TEST(CliRun, FrameFilesThroughThePipeline) {
+  const fs::path dir = fs::temp_directory_path() / ("mccd_cli_frames_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  // 6 frames of a folding cloth as PLY files; frame 4 of a second set has other triangles
+  mccd::AnimatedScene s = mccd::make_folding_cloth(12, 6);
+  for (std::size_t f = 0; f < s.frames.size(); ++f) {
+    mccd::TriMesh m = s.meshes[0];
+    m.vertices = s.frames[f][0];
+    char name[32];
+    std::snprintf(name, sizeof name, "frame%03zu.ply", f);
+    mccd::write_ply((dir / name).string(), m);
+    if (f == 4) std::swap(m.faces[7][0], m.faces[7][1]);
+    std::snprintf(name, sizeof name, "bad%03zu.ply", f);
+    mccd::write_ply((dir / name).string(), m);
+  }
+  Out files = run_cli("run " + (dir / "frame%03d.ply").string() + " --quiet --method front");
+  ASSERT_EQ(files.status, 0) << files.text;
+  EXPECT_NE(files.text.find("6 frames of"), std::string::npos) << files.text;
+  EXPECT_NE(files.text.find("total over 5 steps (front)"), std::string::npos) << files.text;
+  // the same frames in memory give the same totals
+  mccd::Scene scene(s.meshes);
+  std::size_t contacts = 0;
+  for (std::size_t f = 1; f < s.frames.size(); ++f)
+    contacts += scene.advance(std::vector<mccd::PositionsView>(s.frames[f].begin(), s.frames[f].end())).contacts.size();
+  EXPECT_NE(files.text.find("contacts " + std::to_string(contacts) + ","), std::string::npos) << files.text;
+
+  const std::string csv = (dir / "out.csv").string();
+  Out bad = run_cli("run " + (dir / "bad%03d.ply").string() + " --quiet --contacts " + csv);
+  EXPECT_EQ(bad.status, 2) << bad.text;
+  EXPECT_NE(bad.text.find("bad004.ply (frame 4): face 7"), std::string::npos) << bad.text;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_FALSE(fs::exists(csv + ".tmp"));
+  fs::remove_all(dir);
 }
