@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/concurrent_vector.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 
@@ -63,6 +64,10 @@ struct Counters {
   }
 };
 
+/// The step's contacts, fed by the workers in batches (one per block or task); their order
+/// depends on scheduling until the step sorts them.
+using ContactBuffer = tbb::concurrent_vector<RawContact>;
+
 /// Output of one unit of work: its part of the next front, its contacts, its counters, and
 /// its traversal stack (kept to reuse the allocation).
 struct WorkerOutput {
@@ -70,6 +75,11 @@ struct WorkerOutput {
   std::vector<RawContact> contacts;
   std::vector<NodePair> stack;
   Counters counters;
+  /// Moves this worker's contacts into the shared buffer as one batch.
+  void flush(ContactBuffer& buffer) {
+    if (!contacts.empty()) buffer.grow_by(contacts.begin(), contacts.end());
+    contacts.clear();
+  }
   void clear() {
     front.clear();
     contacts.clear();
@@ -330,7 +340,7 @@ class Engine {
   /// outs[0]. The split depends only on the geometry, never on the thread count, and every
   /// node is visited exactly as in a serial traversal: the same tests, stops and contacts.
   template <bool record>
-  void from_root(std::vector<WorkerOutput>& outs, std::size_t min_tasks = 256) const {
+  void from_root(std::vector<WorkerOutput>& outs, ContactBuffer& contacts, std::size_t min_tasks = 256) const {
     if (outs.empty()) outs.resize(1);
     outs[0].clear();
     if (bvh_.size() == 0) {
@@ -350,6 +360,7 @@ class Engine {
         o.clear();
         o.stack.push_back(tasks[i]);
         traverse<record>(o);
+        o.flush(contacts);
       }
     });
   }

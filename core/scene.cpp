@@ -67,6 +67,7 @@ struct Scene::Impl {
   bool front_valid = false;
   std::vector<WorkerOutput> outputs;       // one per front block
   std::vector<WorkerOutput> root_outputs;  // one per task of a traversal from the root
+  detail::ContactBuffer contact_buffer;    // the step's contacts, fed in batches by the workers
 
   Impl(std::vector<TriMesh> ms, SceneOptions opt) : options(opt), meshes(std::move(ms)) {
     if (!(options.min_distance >= 0) || !std::isfinite(options.min_distance))
@@ -136,10 +137,10 @@ struct Scene::Impl {
 
     t = Clock::now();
     Counters total;
-    std::vector<RawContact> raw;
+    contact_buffer.clear();
     auto collect = [&](WorkerOutput& o) {
       total.add(o.counters);
-      raw.insert(raw.end(), o.contacts.begin(), o.contacts.end());
+      o.flush(contact_buffer);  // what a serial part found
     };
     if (outputs.empty()) outputs.resize(1);
     if (method == Method::BruteForce) {
@@ -147,10 +148,10 @@ struct Scene::Impl {
       eng.brute_force(outputs[0]);
       collect(outputs[0]);
     } else if (method == Method::Traverse) {
-      eng.template from_root<false>(root_outputs);
+      eng.template from_root<false>(root_outputs, contact_buffer);
       for (auto& o : root_outputs) collect(o);
     } else if (!front_valid) {
-      eng.template from_root<true>(root_outputs);
+      eng.template from_root<true>(root_outputs, contact_buffer);
       std::size_t n = 0;
       for (auto& o : root_outputs) n += o.front.size();
       std::vector<NodePair> unsorted;
@@ -177,6 +178,7 @@ struct Scene::Impl {
           o.clear();
           const std::size_t lo = b * kFrontBlock, hi = std::min(front.size(), lo + kFrontBlock);
           eng.track(front.data() + lo, front.data() + hi, o);
+          o.flush(contact_buffer);
         }
       });
       next_front.clear();
@@ -223,7 +225,7 @@ struct Scene::Impl {
       st.front_bytes = (front.capacity() + next_front.capacity()) * sizeof(NodePair);
       for (auto& o : outputs) st.front_bytes += o.front.capacity() * sizeof(NodePair);
     }
-    to_contacts(raw, res);
+    to_contacts(contact_buffer, res);
     st.t_total = seconds_since(t_start);
     return res;
   }
@@ -232,7 +234,7 @@ struct Scene::Impl {
     return static_cast<std::uint32_t>(std::upper_bound(offsets.begin(), offsets.end(), id) - offsets.begin() - 1);
   }
 
-  void to_contacts(std::vector<RawContact>& raw, StepResult& res) const {
+  void to_contacts(const detail::ContactBuffer& raw, StepResult& res) const {
     res.contacts.reserve(raw.size());
     for (const RawContact& r : raw) {
       Contact c{};
