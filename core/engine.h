@@ -13,7 +13,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <initializer_list>
 #include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -218,7 +217,7 @@ class Engine {
     if (!edge_volume(a).overlaps(edge_volume(b))) return;
     const Edge& ea = g_.topo.edges()[a];
     const Edge& eb = g_.topo.edges()[b];
-    if (!halves_overlap({ea[0], ea[1]}, {eb[0], eb[1]})) return;
+    if (!edge_pieces_overlap(ea, eb)) return;
     ++out.counters.ee_tests;
     CcdPoints p;
     const std::uint32_t ids[4] = {ea[0], ea[1], eb[0], eb[1]};
@@ -227,18 +226,15 @@ class Engine {
     if (edge_edge_ccd(p, toi, g_.ccd, &out.counters.ee_ccd)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
   }
 
-  /// Whether the features with vertices `p` and `q` may meet in one piece of the step: the
-  /// contact point at time t lies in both features' volumes of every piece holding t (a half,
-  /// then a quarter of it). Only
-  /// consulted after the whole-step feature volumes overlap, so a pair passing it still
-  /// passes every coarser test above it (the consistency invariant of this file).
-  bool halves_overlap(std::initializer_list<std::uint32_t> p, std::initializer_list<std::uint32_t> q) const {
-    auto overlap = [&](int piece) {
-      BV a = BV::empty(), b = BV::empty();
-      for (auto v : p) a.merge(piece_volumes_[v][piece]);
-      for (auto v : q) b.merge(piece_volumes_[v][piece]);
-      return a.overlaps(b);
-    };
+  /// Time-split tests: whether two features (or two triangles) may meet in one piece of the
+  /// step. A contact at time t lies in both features' volumes of every piece holding t (a
+  /// half, then a quarter of it). Only consulted after the whole-step volumes overlap, so a
+  /// pair passing them still passes every coarser test above it (the consistency invariant of
+  /// this file).
+  bool edge_pieces_overlap(const Edge& ea, const Edge& eb) const {
+    const auto &a0 = piece_volumes_[ea[0]], &a1 = piece_volumes_[ea[1]];
+    const auto &b0 = piece_volumes_[eb[0]], &b1 = piece_volumes_[eb[1]];
+    auto overlap = [&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); };
     for (int h = 0; h < 2; ++h)
       if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
     return false;

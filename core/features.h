@@ -35,8 +35,9 @@ class FeaturePairs {
 
   /// Whether the leaf pair (s, t) (non-adjacent) carries the VF pair (v, t), v a corner of s.
   bool carries_vf(std::uint32_t v, std::uint32_t s, std::uint32_t t) const {
-    const std::uint32_t f0 = first_face_[v];  // fast path: the first face is the carrier
-    if (!topo_->adjacent(f0, t)) return f0 == s;
+    const std::uint32_t f0 = first_face_[v];  // fast paths: the first face is the carrier
+    if (f0 == s) return true;                 // (s is not adjacent to t)
+    if (!topo_->adjacent(f0, t)) return false;
     for (auto* f = topo_->vertex_faces_begin(v); f != topo_->vertex_faces_end(v); ++f)
       if (!topo_->adjacent(*f, t)) return *f == s;
     return false;
@@ -50,7 +51,8 @@ class FeaturePairs {
       std::swap(s, t);
     }
     const std::uint32_t fa = first_face_of_edge_[a], fb = first_face_of_edge_[b];
-    if (!topo_->adjacent(fa, fb)) return fa == s && fb == t;  // fast path: the first pair
+    if (fa == s && fb == t) return true;                      // fast paths: the first pair
+    if (!topo_->adjacent(fa, fb)) return false;
     for (auto* f = topo_->edge_faces_begin(a); f != topo_->edge_faces_end(a); ++f)
       for (auto* g = topo_->edge_faces_begin(b); g != topo_->edge_faces_end(b); ++g)
         if (!topo_->adjacent(*f, *g)) return *f == s && *g == t;
