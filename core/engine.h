@@ -384,22 +384,10 @@ class Engine {
     }
   }
 
-  /// Orphan pairs [begin, end) of one kind.
-  void orphans_vf(const std::pair<std::uint32_t, std::uint32_t>* begin,
-                  const std::pair<std::uint32_t, std::uint32_t>* end, WorkerOutput& out) const {
-    for (auto* p = begin; p != end; ++p) {
-      const std::size_t before = out.counters.vf_tests;
-      test_vf(p->first, p->second, out);
-      out.counters.orphan_vf += out.counters.vf_tests - before;
-    }
-  }
-  void orphans_ee(const std::pair<std::uint32_t, std::uint32_t>* begin,
-                  const std::pair<std::uint32_t, std::uint32_t>* end, WorkerOutput& out) const {
-    for (auto* p = begin; p != end; ++p) {
-      const std::size_t before = out.counters.ee_tests;
-      test_ee(p->first, p->second, out);
-      out.counters.orphan_ee += out.counters.ee_tests - before;
-    }
+  /// The orphan set (paper section 4.6): every orphan pair behind its feature-volume tests.
+  void orphans(WorkerOutput& out) const {
+    for (const auto& [v, f] : g_.features.orphan_vf()) test_vf(v, f, out);
+    for (const auto& [a, b] : g_.features.orphan_ee()) test_ee(a, b, out);
   }
 
   /// Brute force: every VF pair (v not a corner of f) and every EE pair sharing no vertex,

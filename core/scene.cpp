@@ -200,10 +200,10 @@ struct Scene::Impl {
     if (method != Method::BruteForce) {
       WorkerOutput& o = outputs[0];
       o.clear();
-      const auto& ovf = geo.features.orphan_vf();
-      const auto& oee = geo.features.orphan_ee();
-      eng.orphans_vf(ovf.data(), ovf.data() + ovf.size(), o);
-      eng.orphans_ee(oee.data(), oee.data() + oee.size(), o);
+      const Counters before = o.counters;
+      eng.orphans(o);
+      o.counters.orphan_vf = o.counters.vf_tests - before.vf_tests;
+      o.counters.orphan_ee = o.counters.ee_tests - before.ee_tests;
       collect(o);
     }
     st.t_orphans = seconds_since(t);

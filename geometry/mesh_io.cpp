@@ -294,31 +294,24 @@ T load(const char* p, bool swap) {
   return v;
 }
 
-double load_double(const char* p, Scalar s, bool swap) {
+/// The scalar of type `s` at `p`, converted to R. List counts and indices are integer types
+/// (checked in the header), so R = std::int64_t never sees a float.
+template <class R>
+R load_as(const char* p, Scalar s, bool swap) {
   switch (s) {
-    case Scalar::Int8: return load<std::int8_t>(p, false);
-    case Scalar::UInt8: return load<std::uint8_t>(p, false);
-    case Scalar::Int16: return load<std::int16_t>(p, swap);
-    case Scalar::UInt16: return load<std::uint16_t>(p, swap);
-    case Scalar::Int32: return load<std::int32_t>(p, swap);
-    case Scalar::UInt32: return load<std::uint32_t>(p, swap);
-    case Scalar::Float32: return load<float>(p, swap);
-    case Scalar::Float64: return load<double>(p, swap);
+    case Scalar::Int8: return static_cast<R>(load<std::int8_t>(p, false));
+    case Scalar::UInt8: return static_cast<R>(load<std::uint8_t>(p, false));
+    case Scalar::Int16: return static_cast<R>(load<std::int16_t>(p, swap));
+    case Scalar::UInt16: return static_cast<R>(load<std::uint16_t>(p, swap));
+    case Scalar::Int32: return static_cast<R>(load<std::int32_t>(p, swap));
+    case Scalar::UInt32: return static_cast<R>(load<std::uint32_t>(p, swap));
+    case Scalar::Float32: return static_cast<R>(load<float>(p, swap));
+    case Scalar::Float64: return static_cast<R>(load<double>(p, swap));
   }
   return 0;
 }
-
-std::int64_t load_int(const char* p, Scalar s, bool swap) {
-  switch (s) {
-    case Scalar::Int8: return load<std::int8_t>(p, false);
-    case Scalar::UInt8: return load<std::uint8_t>(p, false);
-    case Scalar::Int16: return load<std::int16_t>(p, swap);
-    case Scalar::UInt16: return load<std::uint16_t>(p, swap);
-    case Scalar::Int32: return load<std::int32_t>(p, swap);
-    case Scalar::UInt32: return load<std::uint32_t>(p, swap);
-    default: return 0;  // never: list counts and indices are integer types (checked in the header)
-  }
-}
+double load_double(const char* p, Scalar s, bool swap) { return load_as<double>(p, s, swap); }
+std::int64_t load_int(const char* p, Scalar s, bool swap) { return load_as<std::int64_t>(p, s, swap); }
 
 struct Property {
   std::string name;
