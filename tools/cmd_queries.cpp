@@ -94,24 +94,32 @@ int queries(const std::vector<std::string>& argv) {
     have_json = true;
   }
 
-  std::map<Kind, Stats> stats;
-  std::size_t json_index = 0;
-  using clock = std::chrono::steady_clock;
+  // Read and check everything before running anything: kinds, files, and the truth count.
+  std::vector<std::pair<Kind, std::vector<mccd::CcdQuery>>> sets;
+  std::size_t without_truth = 0;
   for (const fs::path& file : files) {
     Kind kind;
     if (!kind_of(file, forced, kind))
       throw Error(file.string() + ": cannot tell vertex-face from edge-edge (use --kind vf|ee)");
-    const std::vector<mccd::CcdQuery> qs = mccd::read_query_csv(file.string());
+    sets.emplace_back(kind, mccd::read_query_csv(file.string()));
+    for (const auto& q : sets.back().second) without_truth += q.truth < 0;
+  }
+  if (have_json && truth_json.size() != without_truth)
+    throw Error(args.get("truth") + ": has " + std::to_string(truth_json.size()) + " entries for " +
+                std::to_string(without_truth) + " queries without ground truth");
+
+  std::map<Kind, Stats> stats;
+  std::size_t json_index = 0;
+  using clock = std::chrono::steady_clock;
+  for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    const fs::path& file = files[fi];
+    const Kind kind = sets[fi].first;
+    const std::vector<mccd::CcdQuery>& qs = sets[fi].second;
     Stats& st = stats[kind];
     for (std::size_t qi = 0; qi < qs.size(); ++qi) {
       const mccd::CcdQuery& q = qs[qi];
       int truth = q.truth;
-      if (truth < 0 && have_json) {
-        if (json_index >= truth_json.size())
-          throw Error(args.get("truth") + ": has " + std::to_string(truth_json.size()) + " entries, fewer than the queries");
-        truth = truth_json[json_index] ? 1 : 0;
-      }
-      if (q.truth < 0 && have_json) ++json_index;
+      if (truth < 0 && have_json) truth = truth_json[json_index++] ? 1 : 0;
       double toi = 1;
       bool hit = false;
       double best = HUGE_VAL;
@@ -140,9 +148,6 @@ int queries(const std::vector<std::string>& argv) {
       }
     }
   }
-  if (have_json && json_index != truth_json.size())
-    std::cerr << "warning: " << args.get("truth") << " has " << truth_json.size() << " entries, " << json_index
-              << " queries read\n";
 
   std::cout << "kind         queries  positives  reported  false-neg  false-pos   mean-ns    max-ns\n";
   bool any_fn = false;

@@ -67,6 +67,16 @@ TEST(CcdCliQueries, ClothFunnelWithJsonTruth) {
   EXPECT_NE(r.out.find("107"), std::string::npos) << r.out;  // positives
 }
 
+TEST(CcdCliQueries, TruthOfTheWrongLengthIsRefusedBeforeRunning) {
+  const auto dir = mccd::test::data_dir() / "toi" / "cloth-funnel";
+  MCCD_REQUIRE_DATA(dir / "queries" / "227vf.csv");
+  const CliRun r = run_cli("queries " + (dir / "queries" / "227vf.csv").string() + " --kind vf --truth " +
+                           (dir / "mma_bool" / "227ee_mma_bool.json").string() + " --repeat 1");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("has 263 entries for 92 queries"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("false negative"), std::string::npos) << r.out;  // nothing was run
+}
+
 TEST(CcdCliQueries, MalformedFileIsRefusedWithItsLine) {
   const auto path = std::filesystem::temp_directory_path() / "mccd_cli_queries_bad.csv";
   {
