@@ -6,24 +6,46 @@ namespace mccd {
 
 namespace {
 
-/// The faces sharing a vertex with face f0 (f0 included), ascending, into `out`.
-void faces_near(const MeshTopology& topo, std::uint32_t f0, std::vector<std::uint32_t>& out) {
-  out.clear();
-  for (auto w : topo.faces()[f0]) out.insert(out.end(), topo.vertex_faces_begin(w), topo.vertex_faces_end(w));
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-}
+/// Collects the faces (or edges) near a face without duplicates: a stamp per element marks
+/// those already taken in the current round, so no sorting is needed. Unordered.
+class NearCollector {
+ public:
+  explicit NearCollector(std::size_t n) : stamp_(n, 0) {}
+  /// The faces sharing a vertex with face f0 (f0 included).
+  const std::vector<std::uint32_t>& faces_near(const MeshTopology& topo, std::uint32_t f0) {
+    begin();
+    for (auto w : topo.faces()[f0])
+      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g) take(*g);
+    return out_;
+  }
+  /// The edges above `a` of the faces sharing a vertex with face f0.
+  const std::vector<std::uint32_t>& edges_near(const MeshTopology& topo, std::uint32_t f0, std::uint32_t a) {
+    begin();
+    for (auto w : topo.faces()[f0])
+      for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
+        for (auto b : topo.face_edges(*g))
+          if (b > a) take(b);
+    return out_;
+  }
 
-/// The edges above `a` of the faces sharing a vertex with face f0, ascending, into `out`.
-void edges_near(const MeshTopology& topo, std::uint32_t f0, std::uint32_t a, std::vector<std::uint32_t>& out) {
-  out.clear();
-  for (auto w : topo.faces()[f0])
-    for (auto* g = topo.vertex_faces_begin(w); g != topo.vertex_faces_end(w); ++g)
-      for (auto b : topo.face_edges(*g))
-        if (b > a) out.push_back(b);
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-}
+ private:
+  void begin() {
+    out_.clear();
+    if (++round_ == 0) {  // wrapped: reset the stamps
+      std::fill(stamp_.begin(), stamp_.end(), 0);
+      round_ = 1;
+    }
+  }
+  void take(std::uint32_t x) {
+    if (stamp_[x] != round_) {
+      stamp_[x] = round_;
+      out_.push_back(x);
+    }
+  }
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t round_ = 0;
+  std::vector<std::uint32_t> out_;
+};
 
 bool share_vertex(const Edge& x, const Edge& y) { return x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]; }
 
@@ -36,13 +58,12 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
     if (topo.vertex_face_count(v)) first_face_[v] = *topo.vertex_faces_begin(v);
   first_face_of_edge_.resize(topo.num_edges());
   for (std::size_t e = 0; e < topo.num_edges(); ++e) first_face_of_edge_[e] = *topo.edge_faces_begin(e);
-  std::vector<std::uint32_t> candidates;
+  NearCollector near_faces(topo.num_faces()), near_edges(topo.num_edges());
   // VF: an orphan face f is adjacent to every face around v, in particular to the first one
   // (f0), so it is among the faces around f0's corners.
   for (std::uint32_t v = 0; v < nv; ++v) {
     if (topo.vertex_face_count(v) == 0) continue;
-    faces_near(topo, *topo.vertex_faces_begin(v), candidates);
-    for (auto f : candidates) {
+    for (auto f : near_faces.faces_near(topo, *topo.vertex_faces_begin(v))) {
       const Triangle& tf = topo.faces()[f];
       if (tf[0] == v || tf[1] == v || tf[2] == v) continue;
       bool all_adjacent = true;
@@ -55,8 +76,7 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
   // face around one of that face's corners.
   for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
     const Edge& ea = topo.edges()[a];
-    edges_near(topo, *topo.edge_faces_begin(a), a, candidates);
-    for (auto b : candidates) {
+    for (auto b : near_edges.edges_near(topo, *topo.edge_faces_begin(a), a)) {
       if (share_vertex(ea, topo.edges()[b])) continue;
       bool all_adjacent = true;
       for (auto* f = topo.edge_faces_begin(a); f != topo.edge_faces_end(a) && all_adjacent; ++f)
@@ -65,16 +85,17 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
       if (all_adjacent) orphan_ee_.emplace_back(a, b);
     }
   }
+  std::sort(orphan_vf_.begin(), orphan_vf_.end());  // candidates come unordered
+  std::sort(orphan_ee_.begin(), orphan_ee_.end());
 }
 
 StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
   StaticOrphanCounts c;
-  std::vector<std::uint32_t> candidates;
+  NearCollector near_faces(topo.num_faces()), near_edges(topo.num_edges());
   // VF: v's assigned face f0 is adjacent to f (and v not a corner of f).
   for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
     if (topo.vertex_face_count(v) == 0) continue;
-    faces_near(topo, *topo.vertex_faces_begin(v), candidates);
-    for (auto f : candidates) {
+    for (auto f : near_faces.faces_near(topo, *topo.vertex_faces_begin(v))) {
       const Triangle& t = topo.faces()[f];
       if (t[0] != v && t[1] != v && t[2] != v) ++c.vf;
     }
@@ -83,8 +104,7 @@ StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
   for (std::uint32_t a = 0; a < topo.num_edges(); ++a) {
     const std::uint32_t fa = *topo.edge_faces_begin(a);
     const Edge& ea = topo.edges()[a];
-    edges_near(topo, fa, a, candidates);
-    for (auto b : candidates) {
+    for (auto b : near_edges.edges_near(topo, fa, a)) {
       if (share_vertex(ea, topo.edges()[b])) continue;
       if (topo.adjacent(fa, *topo.edge_faces_begin(b))) ++c.ee;
     }
