@@ -124,7 +124,9 @@ class Tokens {
   std::size_t pos_ = 0;
 };
 
-bool parse_double(std::string_view tok, double& out) {
+/// A whole token as a number (an optional leading '+' allowed); false on anything else.
+template <class T>
+bool parse_number(std::string_view tok, T& out) {
   const char* b = tok.data();
   const char* e = b + tok.size();
   if (b != e && *b == '+') ++b;
@@ -132,15 +134,8 @@ bool parse_double(std::string_view tok, double& out) {
   auto [p, ec] = std::from_chars(b, e, out);
   return ec == std::errc() && p == e;
 }
-
-bool parse_int(std::string_view tok, std::int64_t& out) {
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (b != e && *b == '+') ++b;
-  if (b == e) return false;
-  auto [p, ec] = std::from_chars(b, e, out);
-  return ec == std::errc() && p == e;
-}
+bool parse_double(std::string_view tok, double& out) { return parse_number(tok, out); }
+bool parse_int(std::string_view tok, std::int64_t& out) { return parse_number(tok, out); }
 
 void check_repeated(const Triangle& t, const std::string& where) {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])

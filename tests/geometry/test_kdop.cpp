@@ -31,19 +31,14 @@ TEST(Kdop, ContainsItsPointsAfterFloatRounding) {
 }
 
 TEST(Kdop, OverlapIsSymmetricAndDiagonalSeparates) {
+  // a: the triangle (0,0)-(1,0)-(0,1); b: a segment just beyond its hypotenuse
+  const std::vector<Vec3> pa = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  const std::vector<Vec3> pb = {Vec3(1, 1, 0), Vec3(0.9, 0.9, 0)};
   Kdop18 a = Kdop18::empty(), b = Kdop18::empty();
-  a.add_point(Vec3(0, 0, 0));
-  a.add_point(Vec3(1, 0, 0));
-  a.add_point(Vec3(0, 1, 0));
-  b.add_point(Vec3(1, 1, 0));
-  b.add_point(Vec3(0.9, 0.9, 0));
-  // AABBs overlap, but the x+y slab separates them
   Aabb aa = Aabb::empty(), bb = Aabb::empty();
-  aa.add_point(Vec3(0, 0, 0));
-  aa.add_point(Vec3(1, 0, 0));
-  aa.add_point(Vec3(0, 1, 0));
-  bb.add_point(Vec3(1, 1, 0));
-  bb.add_point(Vec3(0.9, 0.9, 0));
+  for (const Vec3& p : pa) a.add_point(p), aa.add_point(p);
+  for (const Vec3& p : pb) b.add_point(p), bb.add_point(p);
+  // AABBs overlap, but the x+y slab separates them
   EXPECT_TRUE(aa.overlaps(bb));
   EXPECT_FALSE(a.overlaps(b));
   EXPECT_FALSE(b.overlaps(a));
