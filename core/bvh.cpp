@@ -1,4 +1,4 @@
-#include "core/bvh.h"
+#include <mccd/core/bvh.h>
 
 #include <algorithm>
 #include <limits>

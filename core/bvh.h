@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "geometry/mesh.h"
+#include <mccd/geometry/mesh.h>
 
 namespace mccd {
 

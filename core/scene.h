@@ -6,52 +6,38 @@
 ///   for (const mccd::Contact& c : r.contacts) ...     // sorted, earliest toi in r.earliest_toi
 ///   r = scene.advance({cloth_t2, body_t2});           // t1 -> t2
 ///
-/// Thread safety: one step at a time per scene; different scenes are independent.
+/// Thread safety: one step at a time per scene (a second concurrent call is refused with
+/// mccd::Error); different scenes are independent and may be stepped concurrently. A step
+/// runs its parallel stages in the caller's TBB arena, or in SceneOptions::arena, and may be
+/// called from inside the host's own parallel algorithms and flow graphs.
 #include <memory>
 #include <optional>
 #include <vector>
 
-#include <oneapi/tbb/task_arena.h>
-
-#include "core/contact.h"
-#include "geometry/mesh.h"
-
+#include <mccd/core/contact.h>
+#include <mccd/core/options.h>
+#include <mccd/core/stats.h>
+#include <mccd/geometry/mesh.h>
+#include <mccd/geometry/positions.h>
+#include <mccd/geometry/topology.h>
 
 namespace mccd {
-
-/// The bounding volume of the scene BVH.
-enum class VolumeKind : std::uint8_t { Kdop18, Aabb };
-
-struct SceneOptions {
-  Method method = Method::Front;        ///< default method of step() and advance()
-  VolumeKind volume = VolumeKind::Kdop18;
-  /// Rebuild the front from the root when S/L (nodes inserted by sprouting since the last
-  /// build over the front size) exceeds this (paper equation 3).
-  double rebuild_sprout_ratio = 0.30;
-  /// ... or when B/L (nodes invalidated since the last build) exceeds this (equation 4).
-  double rebuild_invalid_ratio = 0.45;
-  /// Report pairs that come within this distance (>= 0) as contacts.
-  double min_distance = 0.0;
-  /// Where the parallel stages run; nullptr: the caller's arena.
-  tbb::task_arena* arena = nullptr;
-};
-
-/// A view of one mesh's positions: row i is vertex i (x, y, z), row-major doubles. Read during
-/// the call only.
-using PositionsView = Eigen::Ref<const Positions>;
 
 class Scene {
  public:
   /// Builds the scene from meshes (their positions are the initial positions used by the
-  /// first advance()). Validates each mesh (throws mccd::Error naming mesh and index).
+  /// first advance()). Validates the options and each mesh (throws mccd::Error naming the
+  /// option, or the mesh and the index).
   explicit Scene(std::vector<TriMesh> meshes, SceneOptions options = {});
   ~Scene();
   Scene(Scene&&) noexcept;
   Scene& operator=(Scene&&) noexcept;
 
-  /// One step: every vertex moves linearly from `start` to `end` (one view per mesh).
-  /// Throws mccd::Error, before any state changes, on a wrong mesh count, row count or a
-  /// non-finite coordinate (naming start/end, mesh and vertex).
+  /// One step: every vertex moves linearly from `start` to `end` (one view per mesh; see
+  /// PositionsView for the accepted forms). Throws mccd::Error, before any state changes, on
+  /// a wrong mesh count, a wrong row or column count, a non-finite coordinate (naming start or
+  /// end, the mesh and the vertex), an out-of-range method, or a step of this scene already
+  /// running in another thread.
   StepResult step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
                   std::optional<Method> method = std::nullopt);
   /// One step from the last end positions (initially the meshes' positions) to `next`.

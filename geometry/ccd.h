@@ -71,7 +71,7 @@
 #include <array>
 #include <cstdint>
 
-#include "geometry/mesh.h"
+#include <mccd/geometry/mesh.h>
 
 namespace mccd {
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file Internal: the stages of the elementary CCD tests, exposed for the benchmark and the
 /// tests. Not part of the public API; may change without notice.
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 
 namespace mccd::detail {
 

@@ -7,7 +7,7 @@
 // restricted to nonzero magnitudes in [2^-120, 2^120]: every term of a product of at most
 // four coordinate differences then stays far inside the normal range (>= 2^-800, <= 2^500),
 // so every operation below is exact and the signs are the exact signs.
-#include "geometry/ccd_exact.h"
+#include <mccd/geometry/ccd_exact.h>
 
 #include <cmath>
 

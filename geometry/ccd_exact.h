@@ -11,7 +11,7 @@
 /// the expansions to stay exact). Callers must never treat false as a proof of separation.
 #include <array>
 
-#include "geometry/mesh.h"
+#include <mccd/geometry/mesh.h>
 
 namespace mccd::detail {
 

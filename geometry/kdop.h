@@ -7,11 +7,12 @@
 ///   | axis | x | y | z | x+y | x-y | x+z | x-z | y+z | y-z |
 /// Dop<3> is the axis-aligned box (first three slabs), Dop<9> the 18-DOP.
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 
-#include "geometry/mesh.h"
+#include <mccd/geometry/positions.h>
 
 namespace mccd {
 
@@ -121,9 +122,23 @@ struct Dop {
   }
 };
 
+/// What the core needs of a bounding volume (the BVH, the BVTT and the swept volumes are
+/// templated on it): an empty volume, growth by a point, a volume and a distance, and a
+/// conservative overlap test (touching counts as overlapping).
+template <class BV>
+concept BoundingVolume = std::copyable<BV> && requires(BV v, const BV& c, const Vec3& p, double d) {
+  { BV::empty() } -> std::same_as<BV>;
+  { BV::merged(c, c) } -> std::same_as<BV>;
+  v.add_point(p);
+  v.merge(c);
+  v.inflate(d);
+  { c.overlaps(c) } -> std::same_as<bool>;
+};
+
 using Aabb = Dop<3>;
 using Kdop18 = Dop<9>;
 static_assert(sizeof(Kdop18) == 72, "18-DOP: 18 floats");
 static_assert(sizeof(Aabb) == 24, "AABB: 6 floats");
+static_assert(BoundingVolume<Kdop18> && BoundingVolume<Aabb>);
 
 }  // namespace mccd

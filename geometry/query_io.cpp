@@ -1,5 +1,5 @@
 // Exact reader of the rational CCD query CSV files (see query_io.h).
-#include "geometry/query_io.h"
+#include <mccd/geometry/query_io.h>
 
 #include <charconv>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <string_view>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 
 namespace mccd {
 namespace {

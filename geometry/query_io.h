@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 
 namespace mccd {
 

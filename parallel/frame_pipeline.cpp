@@ -1,10 +1,10 @@
-#include "parallel/frame_pipeline.h"
+#include <mccd/parallel/frame_pipeline.h>
 
 #include <oneapi/tbb/flow_graph.h>
 
 #include <memory>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 
 namespace mccd {
 
@@ -51,7 +51,7 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
       std::vector<Positions> end = f->positions;
       if (k < k_max)
         for (std::size_t m = 0; m < end.size() && m < prev.size(); ++m)
-          if (end[m].rows() == prev[m].rows()) end[m] = (1 - u) * cur[m] + u * f->positions[m];
+          if (end[m].rows() == prev[m].rows()) end[m].mat() = (1 - u) * cur[m].mat() + u * f->positions[m].mat();
       PipelineStep s;
       s.index = ++steps;
       s.result = scene.step(views(prev), views(end), options.method);

@@ -11,7 +11,7 @@
 #include <optional>
 #include <vector>
 
-#include "core/scene.h"
+#include <mccd/core/scene.h>
 
 namespace mccd {
 

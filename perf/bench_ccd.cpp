@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "geometry/ccd.h"
-#include "geometry/ccd_detail.h"
-#include "geometry/query_io.h"
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_detail.h>
+#include <mccd/geometry/query_io.h>
 
 namespace fs = std::filesystem;
 using mccd::detail::CcdKind;

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.h"
-#include "core/scenes.h"
-#include "geometry/error.h"
+#include <mccd/core/scene.h>
+#include "fixtures/scenes.h"
+#include <mccd/geometry/error.h>
 
 using namespace mccd;
 

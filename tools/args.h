@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 
 namespace mccd::cli {
 

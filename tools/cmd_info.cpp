@@ -7,8 +7,9 @@
 
 #include "args.h"
 #include "command.h"
-#include "geometry/mesh.h"
-#include "geometry/mesh_io.h"
+#include <mccd/geometry/mesh.h>
+#include <mccd/geometry/mesh_io.h>
+#include <mccd/geometry/topology.h>
 
 namespace {
 

@@ -12,9 +12,9 @@
 
 #include "args.h"
 #include "command.h"
-#include "geometry/ccd.h"
-#include "geometry/error.h"
-#include "geometry/query_io.h"
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/error.h>
+#include <mccd/geometry/query_io.h>
 
 namespace {
 

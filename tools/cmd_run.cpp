@@ -10,10 +10,10 @@
 
 #include "args.h"
 #include "command.h"
-#include "core/scene.h"
-#include "core/scenes.h"
-#include "geometry/mesh_io.h"
-#include "parallel/frame_pipeline.h"
+#include <mccd/core/scene.h>
+#include "fixtures/scenes.h"
+#include <mccd/geometry/mesh_io.h>
+#include <mccd/parallel/frame_pipeline.h>
 
 namespace {
 
@@ -144,15 +144,11 @@ void print_totals(const Scene& scene, const Totals& t, Method method) {
 
 SceneOptions scene_options(const cli::Args& a) {
   SceneOptions o;
-  o.method = parse_method(a.get("method", "front").c_str());
+  o.method = parse_method(a.get("method", "fbd").c_str());
   o.min_distance = a.get_double("min-distance", 0.0);
   o.rebuild_sprout_ratio = a.get_double("rebuild-sprout", 0.30);
   o.rebuild_invalid_ratio = a.get_double("rebuild-invalid", 0.45);
-  const std::string bv = a.get("volume", "kdop18");
-  if (bv == "aabb")
-    o.volume = VolumeKind::Aabb;
-  else if (bv != "kdop18")
-    throw Error("--volume: expected kdop18 or aabb, got '" + bv + "'");
+  o.volume = parse_volume(a.get("volume", "kdop18").c_str());
   return o;
 }
 
@@ -195,7 +191,7 @@ int run_cmd(const std::vector<std::string>& args) {
       ++next;
       return true;
     };
-    t = run_sequence(scene, {first.vertices}, source, int(substeps), opt.method, writer, a.has("quiet"));
+    t = run_sequence(scene, std::vector<Positions>{first.vertices}, source, int(substeps), opt.method, writer, a.has("quiet"));
     writer.finish();
     print_totals(scene, t, opt.method);
   }
@@ -208,16 +204,16 @@ int demo_cmd(const std::vector<std::string>& args) {
   std::printf("built-in scene: a cloth of %zu triangles folding onto itself, %zu frames\n", s.num_triangles(),
               s.frames.size());
   Totals per[2];
-  const Method methods[2] = {Method::Traverse, Method::Front};
+  const Method methods[2] = {Method::Traverse, Method::Fbd};
   std::vector<std::vector<Contact>> last(2);
   ContactWriter none("");
   for (int i = 0; i < 2; ++i) {
     Scene scene(s.meshes);
-    if (i == 1) std::printf("\nmethod front, per step:\n");
+    if (i == 1) std::printf("\nmethod fbd, per step:\n");
     per[i] = run_sequence(scene, s.frames[0], from_memory(s.frames), 1, methods[i], none, i == 0);
     if (i == 1) print_totals(scene, per[i], methods[i]);
   }
-  std::printf("\ntraverse: %llu volume tests, %.3f s; front: %llu volume tests (%.1f%% fewer), %.3f s\n",
+  std::printf("\ntraverse: %llu volume tests, %.3f s; fbd: %llu volume tests (%.1f%% fewer), %.3f s\n",
               (unsigned long long)per[0].volume_tests, per[0].seconds, (unsigned long long)per[1].volume_tests,
               100.0 * (1.0 - double(per[1].volume_tests) / double(std::max<std::uint64_t>(per[0].volume_tests, 1))),
               per[1].seconds);
@@ -231,7 +227,7 @@ int demo_cmd(const std::vector<std::string>& args) {
 
 const cli::Command reg_run("run",
                            "run FRAMES... | --scene cloth|spheres|random|tube [--size K] [--frames N]  [--method "
-                           "bruteforce|traverse|front] [--substeps K] [--contacts FILE.csv] [--min-distance D] "
+                           "bruteforce|traverse|phc|fbd] [--substeps K] [--contacts FILE.csv] [--min-distance D] "
                            "[--volume kdop18|aabb] [--threads N] [--quiet]",
                            "steps through frames (files, a printf pattern, or a built-in scene) and prints per-step "
                            "contacts, earliest time of impact and statistics",

@@ -11,9 +11,9 @@
 
 #include "args.h"
 #include "command.h"
-#include "core/features.h"
-#include "core/scene.h"
-#include "geometry/mesh_io.h"
+#include <mccd/core/orphans.h>
+#include <mccd/core/scene.h>
+#include <mccd/geometry/mesh_io.h>
 
 namespace {
 
@@ -71,7 +71,7 @@ int toi_check(const std::vector<std::string>& args) {
   cli::Args a(args, {"method", "min-distance", "threads"}, {});
   if (a.positional().size() != 1) throw Error("usage: mccd toi-check DIR [--method ...]");
   const fs::path dir = a.positional()[0];
-  const Method method = parse_method(a.get("method", "front").c_str());
+  const Method method = parse_method(a.get("method", "fbd").c_str());
   std::vector<std::string> frames;
   for (auto& e : fs::directory_iterator(dir / "frames"))
     if (e.path().extension() == ".ply") frames.push_back(e.path().string());
@@ -133,14 +133,14 @@ int toi_check(const std::vector<std::string>& args) {
               (unsigned long long)s.volume_tests, (unsigned long long)s.leaf_pairs,
               (unsigned long long)s.feature_box_tests);
   std::printf("  elementary tests called: VF %llu, EE %llu; past their box and coplanarity filters: VF %llu, EE %llu\n",
-              (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests, (unsigned long long)s.vf_root_tests,
-              (unsigned long long)s.ee_root_tests);
+              (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests, (unsigned long long)s.vf_ccd.root_tests,
+              (unsigned long long)s.ee_ccd.root_tests);
   std::printf("  orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); earliest toi %.9g\n",
               scene.orphan_vf_count(), scene.orphan_ee_count(), (unsigned long long)s.orphan_vf_tested,
               (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
-  const StaticOrphanCounts so = static_orphan_counts(scene.topology());
+  const detail::StaticOrphanCounts so = detail::static_orphan_counts(scene.topology());
   std::printf("  (a static first-triangle assignment would leave %zu VF + %zu EE orphan pairs)\n", so.vf, so.ee);
-  if (method == Method::Front)
+  if (method == Method::Fbd)
     std::printf("  front %llu nodes (%.1f MB); the orphan set keeps %llu adjacent leaf pairs out of it (%.1f%% shorter)\n",
                 (unsigned long long)s.front_size, s.front_bytes / 1e6, (unsigned long long)s.adjacent_leaf_pairs,
                 100.0 * double(s.adjacent_leaf_pairs) / double(std::max<std::uint64_t>(s.front_size + s.adjacent_leaf_pairs, 1)));
@@ -151,7 +151,7 @@ int toi_check(const std::vector<std::string>& args) {
   return missed ? 1 : 0;
 }
 
-const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|front] [--min-distance D] [--threads N]",
+const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|phc|fbd] [--min-distance D] [--threads N]",
                        "runs one step of a Time-of-Impact data set scene and checks every true pair is reported",
                        toi_check);
 }  // namespace

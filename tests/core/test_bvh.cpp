@@ -1,10 +1,10 @@
-#include "core/bvh.h"
+#include <mccd/core/bvh.h>
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "geometry/kdop.h"
+#include <mccd/geometry/kdop.h>
 
 using namespace mccd;
 

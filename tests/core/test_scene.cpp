@@ -1,6 +1,6 @@
 // Scene: the three methods (brute force, traversal from the root, front tracking) must give
 // identical contacts at every step of generated scenes; bad input must leave no trace.
-#include "core/scene.h"
+#include <mccd/core/scene.h>
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <limits>
 #include <oneapi/tbb/task_arena.h>
 
-#include "core/scenes.h"
-#include "geometry/error.h"
+#include "fixtures/scenes.h"
+#include <mccd/geometry/error.h>
 
 using namespace mccd;
 
@@ -33,7 +33,7 @@ std::size_t expect_methods_agree(const AnimatedScene& s, SceneOptions opt = {}) 
     auto next = views(s.frames[f]);
     StepResult rb = brute.advance(next, Method::BruteForce);
     StepResult rt = trav.advance(next, Method::Traverse);
-    StepResult rf = front.advance(next, Method::Front);
+    StepResult rf = front.advance(next, Method::Fbd);
     EXPECT_EQ(rb.contacts.size(), rt.contacts.size()) << s.name << " step " << f;
     EXPECT_EQ(rb.contacts.size(), rf.contacts.size()) << s.name << " step " << f;
     if (rb.contacts != rt.contacts || rb.contacts != rf.contacts) {
@@ -107,7 +107,7 @@ TEST(SceneFront, RebuildPolicyDoesNotChangeContacts) {
   std::uint64_t rebuilds_a = 0, rebuilds_n = 0;
   for (std::size_t f = 1; f < s.frames.size(); ++f) {
     auto next = views(s.frames[f]);
-    StepResult ra = a.advance(next, Method::Front), rn = n.advance(next, Method::Front),
+    StepResult ra = a.advance(next, Method::Fbd), rn = n.advance(next, Method::Fbd),
                rt = t.advance(next, Method::Traverse);
     ASSERT_EQ(ra.contacts, rt.contacts) << "step " << f;
     ASSERT_EQ(rn.contacts, rt.contacts) << "step " << f;
@@ -127,7 +127,7 @@ TEST(SceneFront, FrontTestsFewerVolumesThanTraverse) {
   std::uint64_t vf = 0, vt = 0;
   for (std::size_t i = 1; i < s.frames.size(); ++i) {
     auto next = views(s.frames[i]);
-    vf += f.advance(next, Method::Front).stats.volume_tests;
+    vf += f.advance(next, Method::Fbd).stats.volume_tests;
     vt += t.advance(next, Method::Traverse).stats.volume_tests;
   }
   EXPECT_LT(vf, vt);
@@ -147,7 +147,7 @@ TEST(SceneInput, RefusedStepLeavesSceneUnchanged) {
     EXPECT_NE(std::string(e.what()).find("vertex 17"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("mesh 0"), std::string::npos) << e.what();
   }
-  Positions short_frame = s.frames[2][0].topRows(10);
+  Positions short_frame(s.frames[2][0].mat().topRows(10));
   EXPECT_THROW(a.advance(std::vector<PositionsView>{short_frame}), Error);
   EXPECT_THROW(a.advance(std::vector<PositionsView>{}), Error);
   EXPECT_THROW(a.step(std::vector<PositionsView>{s.frames[1][0]}, std::vector<PositionsView>{bad}), Error);
@@ -195,16 +195,14 @@ TEST(SceneContacts, MultiMeshIdsAreLocal) {
 TEST(SceneContacts, PointThroughTriangleKnownAnswer) {
   // mesh 0: one triangle in z = 0; mesh 1: a small triangle whose corner 0 drops through it
   TriMesh floor, drop;
-  floor.vertices.resize(3, 3);
-  floor.vertices << -1, -1, 0, 2, -1, 0, -1, 2, 0;
+  floor.vertices = {Vec3(-1, -1, 0), Vec3(2, -1, 0), Vec3(-1, 2, 0)};
   floor.faces = {{0, 1, 2}};
-  drop.vertices.resize(3, 3);
-  drop.vertices << 0, 0, 0.5, 0.1, 0, 0.9, 0, 0.1, 0.9;
+  drop.vertices = {Vec3(0, 0, 0.5), Vec3(0.1, 0, 0.9), Vec3(0, 0.1, 0.9)};
   drop.faces = {{0, 1, 2}};
   Scene sc({floor, drop});
   Positions f1 = floor.vertices, d1 = drop.vertices;
-  d1.col(2).array() -= 0.8;  // corner 0: z 0.5 -> -0.3, hits at t = 0.625; the others stay above
-  for (Method m : {Method::BruteForce, Method::Traverse, Method::Front}) {
+  d1.mat().col(2).array() -= 0.8;  // corner 0: z 0.5 -> -0.3, hits at t = 0.625; the others stay above
+  for (Method m : {Method::BruteForce, Method::Traverse, Method::Phc, Method::Fbd}) {
     StepResult r = sc.step(std::vector<PositionsView>{floor.vertices, drop.vertices},
                            std::vector<PositionsView>{f1, d1}, m);
     ASSERT_EQ(r.contacts.size(), 1u) << to_string(m);
@@ -220,7 +218,7 @@ TEST(SceneContacts, PointThroughTriangleKnownAnswer) {
   }
   // moving the other way only half as far: no contact
   Positions d2 = drop.vertices;
-  d2.col(2).array() -= 0.4;
+  d2.mat().col(2).array() -= 0.4;
   StepResult r = sc.step(std::vector<PositionsView>{floor.vertices, drop.vertices},
                          std::vector<PositionsView>{f1, d2});
   EXPECT_TRUE(r.contacts.empty());
@@ -241,14 +239,13 @@ TEST(SceneContacts, OrphanPairsAreFoundBetweenAdjacentTriangles) {
   // A fan of two triangles sharing vertex 0 only; the far corner of one swings through the
   // other. Every carrier pair is adjacent, so only the orphan set can find the contact.
   TriMesh m;
-  m.vertices.resize(5, 3);
-  m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.3, 0.3, 0.5, 0.4, 0.2, 0.5;
+  m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.3, 0.3, 0.5), Vec3(0.4, 0.2, 0.5)};
   m.faces = {{0, 1, 2}, {0, 3, 4}};
   Scene sc({m});
   EXPECT_GT(sc.orphan_vf_count(), 0u);
   Positions end = m.vertices;
   end(3, 2) = -0.5;  // vertex 3 passes through face 0 at t = 0.5
-  for (Method meth : {Method::BruteForce, Method::Traverse, Method::Front}) {
+  for (Method meth : {Method::BruteForce, Method::Traverse, Method::Phc, Method::Fbd}) {
     StepResult r = sc.step(m.vertices, end, meth);
     bool found = false;
     for (const Contact& c : r.contacts) found |= c.kind == ContactKind::VertexFace && c.a == 3 && c.b == 0;
@@ -285,13 +282,12 @@ TEST(SceneInput, EmptyAndTinyScenes) {
   EXPECT_TRUE(r.contacts.empty());
   // one triangle, plus a vertex used by no triangle (it takes part in nothing)
   TriMesh one;
-  one.vertices.resize(4, 3);
-  one.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.2, 0.2, 1;
+  one.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.2, 0.2, 1)};
   one.faces = {{0, 1, 2}};
   Scene s({one});
   Positions end = one.vertices;
   end(3, 2) = -1;  // the loose vertex passes through the triangle: not a contact
-  for (Method m : {Method::BruteForce, Method::Traverse, Method::Front}) {
+  for (Method m : {Method::BruteForce, Method::Traverse, Method::Phc, Method::Fbd}) {
     StepResult q = s.step(one.vertices, end, m);
     EXPECT_TRUE(q.contacts.empty()) << to_string(m);
   }

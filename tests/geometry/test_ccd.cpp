@@ -1,6 +1,6 @@
 // Elementary CCD tests against ground truth: the benchmark sample queries, the cloth-funnel
 // step of the Time-of-Impact data set, and the exact GMP reference.
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/query_io.h"
+#include <mccd/geometry/query_io.h>
 #include "support/data.h"
 #include "support/exact_ccd.h"
 

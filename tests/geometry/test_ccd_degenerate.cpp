@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 #include "support/exact_ccd.h"
 
 using namespace mccd;

@@ -1,7 +1,7 @@
 // The exact instant predicates of the elementary CCD tests (geometry/ccd_exact.h), against
 // GMP rationals: orient3d signs, and the touch certificates (true must mean touching; exact
 // touches built on dyadic grids must be certified; one-ulp perturbations must not be).
-#include "geometry/ccd_exact.h"
+#include <mccd/geometry/ccd_exact.h>
 
 #include <gmpxx.h>
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <random>
 
-#include "geometry/query_io.h"
+#include <mccd/geometry/query_io.h>
 #include "support/data.h"
 #include "support/exact_ccd.h"
 

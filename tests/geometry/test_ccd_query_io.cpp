@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "geometry/error.h"
-#include "geometry/query_io.h"
+#include <mccd/geometry/error.h>
+#include <mccd/geometry/query_io.h>
 
 using namespace mccd;
 

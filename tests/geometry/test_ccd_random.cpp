@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <random>
 
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 #include "support/exact_ccd.h"
 
 using namespace mccd;

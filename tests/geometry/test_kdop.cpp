@@ -1,4 +1,4 @@
-#include "geometry/kdop.h"
+#include <mccd/geometry/kdop.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,9 @@
-#include "geometry/mesh.h"
+#include <mccd/geometry/mesh.h>
 
 #include <gtest/gtest.h>
+
+#include <mccd/geometry/topology.h>
+#include "fixtures/shapes.h"
 
 #include <algorithm>
 #include <functional>
@@ -8,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 #include "support/errors.h"
 
 using namespace mccd;
@@ -54,8 +57,7 @@ namespace {
 TriMesh two_triangles() {
   TriMesh m;
   m.name = "pair";
-  m.vertices.resize(4, 3);
-  m.vertices << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 1.5, 1, 0;
+  m.vertices = Positions::from_xyz({0, 0, 0, 1, 0, 0, 0.5, 1, 0, 1.5, 1, 0});
   m.faces = {{0, 1, 2}, {2, 1, 3}};
   return m;
 }
@@ -140,10 +142,10 @@ TEST(MeshTopology, VertexFaces) {
 
 TEST(MeshTopology, Adjacency) {
   TriMesh m = two_triangles();
-  m.vertices.conservativeResize(7, 3);
-  m.vertices.row(4) << 5, 5, 5;
-  m.vertices.row(5) << 6, 5, 5;
-  m.vertices.row(6) << 5, 6, 5;
+  m.vertices.resize(7);
+  m.vertices.set_point(4, Vec3(5, 5, 5));
+  m.vertices.set_point(5, Vec3(6, 5, 5));
+  m.vertices.set_point(6, Vec3(5, 6, 5));
   m.faces.push_back({4, 5, 6});  // disjoint
   m.faces.push_back({3, 4, 5});  // touches face 1 at vertex 3 only
   MeshTopology t(m.num_vertices(), m.faces);
@@ -159,8 +161,7 @@ TEST(MeshTopology, Adjacency) {
 TEST(MeshTopology, NonManifoldAndBoundaryCounts) {
   // three triangles around the edge (0, 1)
   TriMesh m;
-  m.vertices.resize(5, 3);
-  m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1;
+  m.vertices = Positions::from_xyz({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1});
   m.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
   validate_mesh(m);  // non-manifold edges are accepted
   MeshTopology t(m.num_vertices(), m.faces);
@@ -208,16 +209,16 @@ TEST(MeshValidation, UnnamedMeshIsCalledMesh) {
 
 TEST(MeshValidation, AcceptsZeroAreaTriangles) {
   TriMesh m = two_triangles();
-  m.vertices.row(3) = m.vertices.row(1);  // face 1 collapses to a segment
+  m.vertices.set_point(3, m.vertices.point(1));  // face 1 collapses to a segment
   EXPECT_NO_THROW(validate_mesh(m));
   EXPECT_EQ(count_zero_area_faces(m), 1u);
-  m.vertices.row(2) << 2, 0, 0;  // now both are collinear
+  m.vertices.set_point(2, Vec3(2, 0, 0));  // now both are collinear
   EXPECT_EQ(count_zero_area_faces(m), 2u);
   EXPECT_EQ(count_zero_area_faces(two_triangles()), 0u);
 }
 
 TEST(MeshValidation, PositionsRowCountAndFinite) {
-  Positions p = Positions::Zero(3, 3);
+  Positions p = Positions(3);
   EXPECT_NO_THROW(validate_positions(p, 3, "frame 1"));
   EXPECT_EQ(error_of([&] { validate_positions(p, 4, "frame 1 (a.ply)"); }),
             "frame 1 (a.ply): has 3 vertices, expected 4");
@@ -231,10 +232,12 @@ TEST(MeshBounds, BoundingBox) {
   const Bounds3 b = bounding_box(m.vertices);
   EXPECT_EQ(b.min, Vec3(0, 0, 0));
   EXPECT_EQ(b.max, Vec3(1.5, 1, 0));
-  const Bounds3 e = bounding_box(Positions(0, 3));
+  const Positions none;
+  const Bounds3 e = bounding_box(none);
   EXPECT_EQ(e.min.x(), std::numeric_limits<double>::infinity());
   EXPECT_EQ(e.max.z(), -std::numeric_limits<double>::infinity());
-  const Bounds3 s = bounding_box(make_sphere_mesh(8, 8, 2.0, Vec3(1, 2, 3)).vertices);
+  const TriMesh sphere = make_sphere_mesh(8, 8, 2.0, Vec3(1, 2, 3));
+  const Bounds3 s = bounding_box(sphere.vertices);
   EXPECT_DOUBLE_EQ(s.min.z(), 1.0);
   EXPECT_DOUBLE_EQ(s.max.z(), 5.0);
 }

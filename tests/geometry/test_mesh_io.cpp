@@ -1,6 +1,9 @@
-#include "geometry/mesh_io.h"
+#include <mccd/geometry/mesh_io.h>
 
 #include <gtest/gtest.h>
+
+#include <mccd/geometry/topology.h>
+#include "fixtures/shapes.h"
 #include <unistd.h>
 
 #include <atomic>
@@ -14,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 #include "support/errors.h"
 #include "support/data.h"
 
@@ -195,7 +198,7 @@ void expect_poly_mesh(const TriMesh& mesh, const PolyMesh& m, const std::string&
   EXPECT_EQ(mesh.name, path);
   ASSERT_EQ(mesh.num_vertices(), m.v.size());
   for (std::size_t i = 0; i < m.v.size(); ++i)
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.vertices(Eigen::Index(i), k), m.v[i][k]) << "vertex " << i << " " << k;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.vertices(i, k), m.v[i][k]) << "vertex " << i << " " << k;
   EXPECT_EQ(mesh.faces, m.triangles());
 }
 
@@ -249,7 +252,7 @@ TEST(PlyReader, AsciiBasic) {
   const TriMesh m = read_ply(p);
   EXPECT_EQ(m.name, p);
   ASSERT_EQ(m.num_vertices(), 4u);
-  EXPECT_EQ(m.vertices.row(3), Eigen::RowVector3d(1, 1, 0));
+  EXPECT_EQ(m.vertices.point(3), Vec3(1, 1, 0));
   EXPECT_EQ(m.faces, (std::vector<Triangle>{{0, 1, 2}, {2, 1, 3}}));
 }
 
@@ -365,7 +368,7 @@ TEST(PlyReader, MixedCoordinateTypes) {
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty short y\n"
       "property float z\nelement face 1\nproperty list uint8 uint16 vertex_indices\nend_header\n";
   const TriMesh m = read_ply(dir.write("mixed.ply", h + b.s));
-  EXPECT_EQ(m.vertices.row(0), Eigen::RowVector3d(0.5, -2, 1.5));
+  EXPECT_EQ(m.vertices.point(0), Vec3(0.5, -2, 1.5));
 }
 
 TEST(PlyReader, PointCloudWithoutFacesAndEmptyElements) {
@@ -393,7 +396,7 @@ TEST(PlyReader, FacesBeforeVertices) {
       "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
   const TriMesh m = read_ply(dir.write("fv.ply", h + b.s));
   EXPECT_EQ(m.faces, (std::vector<Triangle>{{2, 1, 0}}));
-  EXPECT_EQ(m.vertices.row(1), Eigen::RowVector3d(1, 0, 0));
+  EXPECT_EQ(m.vertices.point(1), Vec3(1, 0, 0));
 }
 
 // ------------------------------------------------------------------------------------------
@@ -625,8 +628,8 @@ TEST(ObjReader, AllFaceFormsNegativeIndicesAndPolygons) {
   const TriMesh m = read_obj(p);
   EXPECT_EQ(m.name, p);
   ASSERT_EQ(m.num_vertices(), 6u);
-  EXPECT_EQ(m.vertices.row(2), Eigen::RowVector3d(1, 1, 0));
-  EXPECT_EQ(m.vertices.row(5), Eigen::RowVector3d(2, 1, 0));
+  EXPECT_EQ(m.vertices.point(2), Vec3(1, 1, 0));
+  EXPECT_EQ(m.vertices.point(5), Vec3(2, 1, 0));
   const std::vector<Triangle> expected{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3},
                                        {2, 4, 5}, {2, 5, 3},                        // quad, relative
                                        {0, 1, 4}, {0, 4, 5}, {0, 5, 2}};            // pentagon
@@ -649,7 +652,7 @@ TEST(ObjReader, VerticesOnly) {
   TempDir dir;
   const TriMesh m = read_obj(dir.write("pts.obj", "v 1 2 3\nv 4 5 6"));  // no final newline
   EXPECT_EQ(m.num_vertices(), 2u);
-  EXPECT_EQ(m.vertices.row(1), Eigen::RowVector3d(4, 5, 6));
+  EXPECT_EQ(m.vertices.point(1), Vec3(4, 5, 6));
   EXPECT_EQ(m.num_faces(), 0u);
 }
 
@@ -698,7 +701,7 @@ TEST(PlyWriter, RoundTripIsExact) {
   const TriMesh r = read_ply(p);
   EXPECT_EQ(r.faces, m.faces);
   ASSERT_EQ(r.num_vertices(), m.num_vertices());
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v)
+  for (std::size_t v = 0; v < m.vertices.rows(); ++v)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(std::bit_cast<std::uint64_t>(r.vertices(v, k)), std::bit_cast<std::uint64_t>(m.vertices(v, k)));
   const std::string h = header_of(p);
   EXPECT_NE(h.find("format binary_little_endian 1.0"), std::string::npos);
@@ -787,7 +790,7 @@ TEST(ObjWriter, RoundTripIsExact) {
   const TriMesh r = read_obj(p);
   EXPECT_EQ(r.faces, m.faces);
   ASSERT_EQ(r.num_vertices(), m.num_vertices());
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v)
+  for (std::size_t v = 0; v < m.vertices.rows(); ++v)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(std::bit_cast<std::uint64_t>(r.vertices(v, k)), std::bit_cast<std::uint64_t>(m.vertices(v, k)));
   // %.17g text
   std::ifstream in(p);
@@ -841,7 +844,7 @@ TEST(FramePattern, Errors) {
 namespace {
 TriMesh shifted(const TriMesh& m, double dz) {
   TriMesh out = m;
-  out.vertices.col(2).array() += dz;
+  out.vertices.mat().col(2).array() += dz;
   return out;
 }
 }  // namespace

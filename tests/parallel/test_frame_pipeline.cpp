@@ -1,13 +1,13 @@
 // The frame pipeline (flow graph) gives the results of stepping frame after frame, in order,
 // and stops cleanly on a bad frame.
-#include "parallel/frame_pipeline.h"
+#include <mccd/parallel/frame_pipeline.h>
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "core/scenes.h"
-#include "geometry/error.h"
+#include "fixtures/scenes.h"
+#include <mccd/geometry/error.h>
 
 using namespace mccd;
 
@@ -37,7 +37,7 @@ TEST(FramePipeline, SameResultsAsSteppingInOrder) {
           const double u = double(k) / substeps;
           std::vector<Positions> end = s.frames[f];
           if (k < substeps)
-            for (std::size_t m = 0; m < end.size(); ++m) end[m] = (1 - u) * s.frames[f - 1][m] + u * s.frames[f][m];
+            for (std::size_t m = 0; m < end.size(); ++m) end[m].mat() = (1 - u) * s.frames[f - 1][m].mat() + u * s.frames[f][m].mat();
           expected.push_back(ref.step(views(prev), views(end)).contacts);
           prev = end;
         }
@@ -89,7 +89,7 @@ TEST(FramePipeline, WrongFrameShapeIsRefusedByTheScene) {
   FrameSource source = [&](std::vector<Positions>& out) {
     if (given) return false;
     given = true;
-    out = {s.frames[1][0].topRows(5)};
+    out = {Positions(s.frames[1][0].mat().topRows(5))};
     return true;
   };
   PipelineOptions po;

@@ -3,7 +3,7 @@
 #include <functional>
 #include <string>
 
-#include "geometry/error.h"
+#include <mccd/geometry/error.h>
 
 namespace mccd::test {
 

@@ -17,7 +17,7 @@
 
 #include <vector>
 
-#include "geometry/ccd.h"
+#include <mccd/geometry/ccd.h>
 
 namespace mccd::test {
 

@@ -1,5 +1,8 @@
 // Runs the built `mccd info` and checks its output and exit status.
 #include <gtest/gtest.h>
+
+#include <mccd/geometry/topology.h>
+#include "fixtures/shapes.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,8 +13,8 @@
 #include <random>
 #include <string>
 
-#include "geometry/mesh.h"
-#include "geometry/mesh_io.h"
+#include <mccd/geometry/mesh.h>
+#include <mccd/geometry/mesh_io.h>
 #include "support/data.h"
 
 namespace fs = std::filesystem;

@@ -8,9 +8,9 @@
 #include <fstream>
 #include <string>
 
-#include "core/scene.h"
-#include "core/scenes.h"
-#include "geometry/mesh_io.h"
+#include <mccd/core/scene.h>
+#include "fixtures/scenes.h"
+#include <mccd/geometry/mesh_io.h>
 #include "support/data.h"
 
 namespace fs = std::filesystem;
@@ -70,7 +70,7 @@ TEST(CliRun, BuiltInSceneWritesContactsCsv) {
   const std::string csv = scratch("contacts.csv");
   Out o = run_cli("run --scene cloth --size 1 --frames 11 --method front --contacts " + csv);
   ASSERT_EQ(o.status, 0) << o.text;
-  EXPECT_NE(o.text.find("total over 10 steps (front)"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("total over 10 steps (fbd)"), std::string::npos) << o.text;
   std::ifstream in(csv);
   std::string header, line;
   std::getline(in, header);
@@ -132,7 +132,7 @@ TEST(CliRun, FrameFilesThroughThePipeline) {
   Out files = run_cli("run " + (dir / "frame%03d.ply").string() + " --quiet --method front");
   ASSERT_EQ(files.status, 0) << files.text;
   EXPECT_NE(files.text.find("6 frames of"), std::string::npos) << files.text;
-  EXPECT_NE(files.text.find("total over 5 steps (front)"), std::string::npos) << files.text;
+  EXPECT_NE(files.text.find("total over 5 steps (fbd)"), std::string::npos) << files.text;
   // the same frames in memory give the same totals
   mccd::Scene scene(s.meshes);
   std::size_t contacts = 0;

@@ -1,8 +1,8 @@
-#include "core/features.h"
+#include <mccd/core/orphans.h>
 
 #include <algorithm>
 
-namespace mccd {
+namespace mccd::detail {
 
 namespace {
 
@@ -51,13 +51,8 @@ bool share_vertex(const Edge& x, const Edge& y) { return x[0] == y[0] || x[0] ==
 
 }  // namespace
 
-FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
+OrphanSet::OrphanSet(const MeshTopology& topo) {
   const std::size_t nv = topo.num_vertices();
-  first_face_.assign(nv, 0);
-  for (std::size_t v = 0; v < nv; ++v)
-    if (topo.vertex_face_count(v)) first_face_[v] = *topo.vertex_faces_begin(v);
-  first_face_of_edge_.resize(topo.num_edges());
-  for (std::size_t e = 0; e < topo.num_edges(); ++e) first_face_of_edge_[e] = *topo.edge_faces_begin(e);
   NearCollector near_faces(topo.num_faces()), near_edges(topo.num_edges());
   // VF: an orphan face f is adjacent to every face around v, in particular to the first one
   // (f0), so it is among the faces around f0's corners.
@@ -69,7 +64,7 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
       bool all_adjacent = true;
       for (auto* g = topo.vertex_faces_begin(v); g != topo.vertex_faces_end(v) && all_adjacent; ++g)
         all_adjacent = topo.adjacent(*g, f);
-      if (all_adjacent) orphan_vf_.emplace_back(v, f);
+      if (all_adjacent) vf_.emplace_back(v, f);
     }
   }
   // EE: every face around b is adjacent to the first face around a, so b is an edge of a
@@ -82,11 +77,11 @@ FeaturePairs::FeaturePairs(const MeshTopology& topo) : topo_(&topo) {
       for (auto* f = topo.edge_faces_begin(a); f != topo.edge_faces_end(a) && all_adjacent; ++f)
         for (auto* g = topo.edge_faces_begin(b); g != topo.edge_faces_end(b) && all_adjacent; ++g)
           all_adjacent = topo.adjacent(*f, *g);
-      if (all_adjacent) orphan_ee_.emplace_back(a, b);
+      if (all_adjacent) ee_.emplace_back(a, b);
     }
   }
-  std::sort(orphan_vf_.begin(), orphan_vf_.end());  // candidates come unordered
-  std::sort(orphan_ee_.begin(), orphan_ee_.end());
+  std::sort(vf_.begin(), vf_.end());  // candidates come unordered
+  std::sort(ee_.begin(), ee_.end());
 }
 
 StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
@@ -112,4 +107,4 @@ StaticOrphanCounts static_orphan_counts(const MeshTopology& topo) {
   return c;
 }
 
-}  // namespace mccd
+}  // namespace mccd::detail

@@ -1,22 +1,25 @@
-// Representative features: every VF and EE pair that must be tested has exactly one carrier
+// Carriers and orphans: every VF and EE pair that must be tested has exactly one carrier
 // among the non-adjacent triangle pairs, or is in the orphan set, never both.
-#include "core/features.h"
+#include <mccd/core/carriers.h>
+#include <mccd/core/orphans.h>
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "core/scenes.h"
+#include "fixtures/scenes.h"
 
 using namespace mccd;
+using namespace mccd::detail;
 
 namespace {
 void check_partition(const TriMesh& m) {
   MeshTopology topo(m.num_vertices(), m.faces);
-  FeaturePairs fp(topo);
-  std::set<std::pair<std::uint32_t, std::uint32_t>> ovf(fp.orphan_vf().begin(), fp.orphan_vf().end());
-  std::set<std::pair<std::uint32_t, std::uint32_t>> oee(fp.orphan_ee().begin(), fp.orphan_ee().end());
-  EXPECT_EQ(ovf.size(), fp.orphan_vf().size());
+  Carriers fp(topo);
+  OrphanSet orphans(topo);
+  std::set<std::pair<std::uint32_t, std::uint32_t>> ovf(orphans.vf().begin(), orphans.vf().end());
+  std::set<std::pair<std::uint32_t, std::uint32_t>> oee(orphans.ee().begin(), orphans.ee().end());
+  EXPECT_EQ(ovf.size(), orphans.vf().size());
   for (std::uint32_t v = 0; v < topo.num_vertices(); ++v)
     for (std::uint32_t f = 0; f < topo.num_faces(); ++f) {
       const Triangle& t = topo.faces()[f];
@@ -39,38 +42,38 @@ void check_partition(const TriMesh& m) {
 }
 }  // namespace
 
-TEST(FeaturePairs, GridPartition) { check_partition(make_grid_mesh(6)); }
-TEST(FeaturePairs, SpherePartition) { check_partition(make_sphere_mesh(6, 10)); }
-TEST(FeaturePairs, TubePartition) { check_partition(make_twisting_tube(8, 7, 2).meshes[0]); }
+TEST(CarriersAndOrphans, GridPartition) { check_partition(make_grid_mesh(6)); }
+TEST(CarriersAndOrphans, SpherePartition) { check_partition(make_sphere_mesh(6, 10)); }
+TEST(CarriersAndOrphans, TubePartition) { check_partition(make_twisting_tube(8, 7, 2).meshes[0]); }
 
-TEST(FeaturePairs, NonManifoldFan) {
+TEST(CarriersAndOrphans, NonManifoldFan) {
   // three triangles sharing one edge (0,1), plus a separate one touching at vertex 2
   TriMesh m;
-  m.vertices.resize(7, 3);
-  m.vertices.setRandom();
+  m.vertices.resize(7);
+  m.vertices.mat().setRandom();
   m.faces = {{0, 1, 2}, {0, 1, 3}, {1, 0, 4}, {2, 5, 6}};
   check_partition(m);
 }
 
-TEST(FeaturePairs, OrphansAreFewOnAGrid) {
+TEST(CarriersAndOrphans, OrphansAreFewOnAGrid) {
   // Interior vertices of a regular grid: an orphan needs every face around v adjacent to f.
   TriMesh g = make_grid_mesh(20);
   MeshTopology topo(g.num_vertices(), g.faces);
-  FeaturePairs fp(topo);
-  EXPECT_GT(fp.orphan_vf().size(), 0u);
-  EXPECT_LT(fp.orphan_vf().size(), 2 * g.num_vertices());
-  EXPECT_LT(fp.orphan_ee().size(), 2 * topo.num_edges());
+  OrphanSet fp(topo);
+  EXPECT_GT(fp.vf().size(), 0u);
+  EXPECT_LT(fp.vf().size(), 2 * g.num_vertices());
+  EXPECT_LT(fp.ee().size(), 2 * topo.num_edges());
 }
 
-TEST(FeaturePairs, CanonicalOrphanSetIsNoLargerThanStatic) {
+TEST(CarriersAndOrphans, CanonicalOrphanSetIsNoLargerThanStatic) {
   // The canonical rule only orphans pairs with no non-adjacent carrier at all, a subset of
   // the pairs whose statically assigned triangles happen to be adjacent.
   for (const TriMesh& m : {make_grid_mesh(12), make_sphere_mesh(8, 12), make_twisting_tube(10, 9, 2).meshes[0]}) {
     MeshTopology topo(m.num_vertices(), m.faces);
-    FeaturePairs fp(topo);
+    OrphanSet fp(topo);
     const StaticOrphanCounts st = static_orphan_counts(topo);
-    EXPECT_LE(fp.orphan_vf().size(), st.vf);
-    EXPECT_LE(fp.orphan_ee().size(), st.ee);
-    EXPECT_GT(st.vf, fp.orphan_vf().size());  // and strictly smaller on these meshes
+    EXPECT_LE(fp.vf().size(), st.vf);
+    EXPECT_LE(fp.ee().size(), st.ee);
+    EXPECT_GT(st.vf, fp.vf().size());  // and strictly smaller on these meshes
   }
 }

@@ -1,7 +1,6 @@
 #pragma once
-/// @file Feature pairs: which triangle pair carries each vertex-face and edge-edge test
-/// (the canonical representative rule), and the orphan set of the pairs no non-adjacent
-/// triangle pair carries (paper section 4.6, DESIGN "Representative features").
+/// @file Internal: the canonical representative rule, which non-adjacent triangle pair carries
+/// each vertex-face and edge-edge test (paper section 4.6, DESIGN "Representative features").
 ///
 /// What must be tested in a step: every (v, f) with v not a corner of f, and every pair of
 /// edges that share no vertex. If such a pair collides, the contact point lies in the swept
@@ -11,27 +10,19 @@
 /// s is the first (lowest id) triangle around v not adjacent to f. An EE pair (a, b), a < b,
 /// is carried by the lexicographically first (s, t) in faces(a) x faces(b) with s not
 /// adjacent to t. Each feature pair thus has at most one carrier; the pairs with none (every
-/// candidate triangle pair is adjacent) form the orphan set, computed once from connectivity.
+/// candidate triangle pair is adjacent) form the orphan set (core/orphans.h).
 #include <cstdint>
 #include <utility>
 #include <vector>
 
-#include "geometry/mesh.h"
+#include <mccd/geometry/topology.h>
 
-namespace mccd {
+namespace mccd::detail {
 
-/// For comparison only: the orphan set sizes a *static* representative rule would give, where
-/// each vertex and each edge is assigned to its first (lowest id) incident triangle and a pair
-/// is tested by the pair of assigned triangles unless those are adjacent.
-struct StaticOrphanCounts {
-  std::size_t vf = 0, ee = 0;
-};
-StaticOrphanCounts static_orphan_counts(const MeshTopology& topo);
-
-class FeaturePairs {
+class Carriers {
  public:
-  FeaturePairs() = default;
-  explicit FeaturePairs(const MeshTopology& topo);
+  Carriers() = default;
+  explicit Carriers(const MeshTopology& topo);
 
   /// Whether the leaf pair (s, t) (non-adjacent) carries the VF pair (v, t), v a corner of s.
   bool carries_vf(std::uint32_t v, std::uint32_t s, std::uint32_t t) const {
@@ -51,7 +42,7 @@ class FeaturePairs {
       std::swap(s, t);
     }
     const std::uint32_t fa = first_face_of_edge_[a], fb = first_face_of_edge_[b];
-    if (fa == s && fb == t) return true;                      // fast paths: the first pair
+    if (fa == s && fb == t) return true;  // fast paths: the first pair
     if (!topo_->adjacent(fa, fb)) return false;
     for (auto* f = topo_->edge_faces_begin(a); f != topo_->edge_faces_end(a); ++f)
       for (auto* g = topo_->edge_faces_begin(b); g != topo_->edge_faces_end(b); ++g)
@@ -59,17 +50,10 @@ class FeaturePairs {
     return false;
   }
 
-  /// Orphan VF pairs (vertex, face), sorted.
-  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& orphan_vf() const { return orphan_vf_; }
-  /// Orphan EE pairs (edge a, edge b), a < b, sorted.
-  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& orphan_ee() const { return orphan_ee_; }
-
  private:
   const MeshTopology* topo_ = nullptr;
   std::vector<std::uint32_t> first_face_;          ///< lowest face around each vertex
   std::vector<std::uint32_t> first_face_of_edge_;  ///< lowest face around each edge
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_vf_;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> orphan_ee_;
 };
 
-}  // namespace mccd
+}  // namespace mccd::detail

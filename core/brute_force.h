@@ -1,0 +1,71 @@
+#pragma once
+/// @file Internal: the brute-force method, the oracle of the tests. Every VF pair (v not a
+/// corner of f) and every EE pair sharing no vertex, found by sweep and prune along the widest
+/// slab of the scene, then the same feature-volume and elementary tests as every other method
+/// (core/leaf_pairs.h), so all methods report identical contacts.
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <mccd/core/bvh.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/geometry/swept_volumes.h>
+
+namespace mccd::detail {
+
+template <BoundingVolume BV, class LeafPairs>
+void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::vector<BV>& nodes,
+                 const SweptVolumes<BV>& swept, const LeafPairs& leaf_pairs, WorkerOutput& out) {
+  // sweep along the slab where the scene is widest (fewest overlapping intervals)
+  int ax = 0;
+  if (bvh.size() > 0) {
+    float best = -1;
+    for (int k = 0; k < 3; ++k)
+      if (nodes[0].hi[k] - nodes[0].lo[k] > best) best = nodes[0].hi[k] - nodes[0].lo[k], ax = k;
+  }
+  // VF: faces sorted by lower bound; each vertex scans the faces whose interval can reach it.
+  std::vector<std::pair<double, std::uint32_t>> faces(topo.num_faces());
+  double max_face_extent = 0;  // the widest face along the sweep axis
+  for (std::uint32_t f = 0; f < faces.size(); ++f) {
+    const BV& vf = nodes[bvh.leaf_of(f)];
+    faces[f] = {vf.lo[ax], f};
+    max_face_extent = std::max(max_face_extent, double(vf.hi[ax]) - double(vf.lo[ax]));
+  }
+  std::sort(faces.begin(), faces.end());
+  for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
+    if (topo.vertex_face_count(v) == 0) continue;
+    const BV& vv = swept.vertex(v);
+    // A face reaching the vertex has lo <= vv.hi and lo >= vv.lo - extent; the margin only
+    // widens the scan (the full volume test decides).
+    const double key = double(vv.lo[ax]) - max_face_extent * (1 + 1e-6) - 1e-30;
+    auto it = std::lower_bound(faces.begin(), faces.end(), std::make_pair(key, 0u));
+    for (; it != faces.end() && it->first <= double(vv.hi[ax]); ++it) {
+      const std::uint32_t f = it->second;
+      const Triangle& t = topo.faces()[f];
+      if (t[0] == v || t[1] == v || t[2] == v) continue;
+      ++out.stats.volume_tests;
+      if (!vv.overlaps(nodes[bvh.leaf_of(f)])) continue;
+      leaf_pairs.test_vf(v, f, out);
+    }
+  }
+  // EE: classic sweep over edges sorted by lower bound.
+  std::vector<std::pair<float, std::uint32_t>> edges(topo.num_edges());
+  for (std::uint32_t e = 0; e < edges.size(); ++e) edges[e] = {swept.edge(e).lo[ax], e};
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const std::uint32_t a = edges[i].second;
+    const Edge& ea = topo.edges()[a];
+    const BV& va = swept.edge(a);
+    for (std::size_t j = i + 1; j < edges.size() && edges[j].first <= va.hi[ax]; ++j) {
+      const std::uint32_t b = edges[j].second;
+      const Edge& eb = topo.edges()[b];
+      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      ++out.stats.volume_tests;
+      if (!va.overlaps(swept.edge(b))) continue;
+      leaf_pairs.test_ee(a, b, out);
+    }
+  }
+}
+
+}  // namespace mccd::detail

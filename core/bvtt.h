@@ -1,0 +1,114 @@
+#pragma once
+/// @file Internal: the bounding volume test tree (BVTT), walked without being stored. A pair
+/// node (a, b), a != b, tests the volumes of BVH nodes a and b; its children split the larger
+/// (or the non-leaf) of the two. A self node (n, n) stands for collisions inside n: for an
+/// inner n it has three children, (l, l), (r, r) and (l, r); a leaf self node is empty. The
+/// front (core/bvtt_front.h) is the set of pair nodes where a traversal stopped: disjoint pairs
+/// and non-adjacent leaf pairs. Adjacent leaf pairs stop without a test and are never in the
+/// front: their features are the orphan set's (core/orphans.h).
+#include <cstdint>
+#include <vector>
+
+#include <mccd/core/bvh.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/geometry/kdop.h>
+#include <mccd/geometry/topology.h>
+
+namespace mccd::detail {
+
+/// Walks the BVTT over a BVH and its node volumes; `Leaf` processes overlapping non-adjacent
+/// leaf pairs (core/leaf_pairs.h). Stateless between calls; every call writes only to the
+/// WorkerOutput it is given.
+template <BoundingVolume BV, class Leaf>
+class Bvtt {
+ public:
+  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const MeshTopology& topo, const Leaf& leaf)
+      : bvh_(bvh), volumes_(volumes), topo_(topo), leaf_(leaf) {}
+
+  const BvhTopology& bvh() const { return bvh_; }
+
+  /// One node: a self node yields its three children; a pair node is tested and either stops
+  /// (recorded in out.front with `record`) or yields its two children into `next`.
+  template <bool record>
+  void visit(const NodePair n, WorkerOutput& out, std::vector<NodePair>& next) const {
+    if (n.a == n.b) {
+      if (bvh_.leaf(n.a)) return;
+      const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
+      next.push_back({l, r});
+      next.push_back({r, r});
+      next.push_back({l, l});
+      return;
+    }
+    if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+      const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
+      if (topo_.adjacent(s, t)) {
+        ++out.stats.adjacent_leaf_pairs;
+        return;
+      }
+      if constexpr (record) out.front.push_back(n);
+      ++out.stats.volume_tests;
+      if (volumes_[n.a].overlaps(volumes_[n.b])) leaf_.process(s, t, out);
+      return;
+    }
+    ++out.stats.volume_tests;
+    if (!volumes_[n.a].overlaps(volumes_[n.b])) {
+      if constexpr (record) out.front.push_back(n);
+      return;
+    }
+    push_children(n, next);
+  }
+
+  /// Depth-first traversal of everything on out.stack.
+  template <bool record>
+  void traverse(WorkerOutput& out) const {
+    auto& st = out.stack;
+    while (!st.empty()) {
+      const NodePair n = st.back();
+      st.pop_back();
+      visit<record>(n, out, st);
+    }
+  }
+
+  /// Children of an inner pair node: split the non-leaf, or the larger, of the two.
+  void push_children(const NodePair& n, std::vector<NodePair>& st) const {
+    const bool split_b = bvh_.leaf(n.a) || (!bvh_.leaf(n.b) && bvh_.subtree_size(n.b) > bvh_.subtree_size(n.a));
+    if (split_b) {
+      st.push_back({n.a, bvh_.right(n.b)});
+      st.push_back({n.a, bvh_.left(n.b)});
+    } else {
+      st.push_back({bvh_.right(n.a), n.b});
+      st.push_back({bvh_.left(n.a), n.b});
+    }
+  }
+
+  /// Front tracking of nodes [begin, end) (paper sections 4.3-4.4): a disjoint node stays; an
+  /// overlapping leaf pair is processed and stays; an overlapping inner node is replaced by the
+  /// stops of its subtree (sprouting; no pruning).
+  void track(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
+    for (const NodePair* it = begin; it != end; ++it) {
+      const NodePair n = *it;
+      ++out.stats.volume_tests;
+      const bool ov = volumes_[n.a].overlaps(volumes_[n.b]);
+      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+        if (ov) leaf_.process(bvh_.triangle(n.a), bvh_.triangle(n.b), out);
+        out.front.push_back(n);
+      } else if (!ov) {
+        out.front.push_back(n);
+      } else {
+        ++out.stats.invalidated;
+        const std::size_t before = out.front.size();
+        push_children(n, out.stack);
+        traverse<true>(out);
+        out.stats.sprouted += out.front.size() - before;
+      }
+    }
+  }
+
+ private:
+  const BvhTopology& bvh_;
+  const std::vector<BV>& volumes_;
+  const MeshTopology& topo_;
+  const Leaf& leaf_;
+};
+
+}  // namespace mccd::detail

@@ -1,0 +1,48 @@
+#include <mccd/core/bvtt_front.h>
+
+#include <algorithm>
+
+namespace mccd::detail {
+
+void sort_by_first_node(const std::vector<NodePair>& in, std::vector<NodePair>& out) {
+  std::uint32_t max_a = 0;
+  for (const NodePair& n : in) max_a = std::max(max_a, n.a);
+  std::vector<std::uint32_t> start(std::size_t(max_a) + 2, 0);
+  for (const NodePair& n : in) ++start[n.a + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  out.resize(in.size());
+  for (const NodePair& n : in) out[start[n.a]++] = n;
+}
+
+void BvttFront::build(std::vector<WorkerOutput>& pieces) {
+  std::size_t n = 0;
+  for (const WorkerOutput& o : pieces) n += o.front.size();
+  next_.clear();
+  next_.reserve(n);
+  for (WorkerOutput& o : pieces) {
+    next_.insert(next_.end(), o.front.begin(), o.front.end());
+    o.front = std::vector<NodePair>();  // the pieces are not kept
+  }
+  sort_by_first_node(next_, nodes_);
+  next_ = std::vector<NodePair>();
+  valid_ = true;
+  sprouted_since_build_ = invalidated_since_build_ = 0;
+}
+
+void BvttFront::advance(const std::vector<WorkerOutput>& blocks, std::size_t num_blocks, double sprout_ratio,
+                        double invalid_ratio) {
+  next_.clear();
+  for (std::size_t b = 0; b < num_blocks; ++b) {
+    const WorkerOutput& o = blocks[b];
+    next_.insert(next_.end(), o.front.begin(), o.front.end());
+    sprouted_since_build_ += o.stats.sprouted;
+    invalidated_since_build_ += o.stats.invalidated;
+  }
+  nodes_.swap(next_);
+  const double L = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
+  if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||
+      static_cast<double>(invalidated_since_build_) > invalid_ratio * L)
+    valid_ = false;  // equations 3-4
+}
+
+}  // namespace mccd::detail

@@ -1,0 +1,14 @@
+#include <mccd/core/carriers.h>
+
+namespace mccd::detail {
+
+Carriers::Carriers(const MeshTopology& topo) : topo_(&topo) {
+  const std::size_t nv = topo.num_vertices();
+  first_face_.assign(nv, 0);
+  for (std::size_t v = 0; v < nv; ++v)
+    if (topo.vertex_face_count(v)) first_face_[v] = *topo.vertex_faces_begin(v);
+  first_face_of_edge_.resize(topo.num_edges());
+  for (std::size_t e = 0; e < topo.num_edges(); ++e) first_face_of_edge_[e] = *topo.edge_faces_begin(e);
+}
+
+}  // namespace mccd::detail

@@ -1,0 +1,102 @@
+#pragma once
+/// @file Internal: the work at an overlapping leaf pair, the feature pairs it carries (the
+/// canonical rule, core/carriers.h), each behind its feature-volume tests, then the narrow
+/// phase, a template parameter (ipc-toolkit passes its narrow phase the same way, at run time).
+#include <cstdint>
+
+#include <mccd/core/bvh.h>
+#include <mccd/core/carriers.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/swept_volumes.h>
+
+namespace mccd::detail {
+
+/// The default narrow phase: mccd's conservative elementary tests (geometry/ccd.h).
+struct ConservativeCcd {
+  CcdOptions options;
+  bool vertex_face(const CcdPoints& p, double& toi, StepStats& s) const {
+    return vertex_face_ccd(p, toi, options, &s.vf_ccd);
+  }
+  bool edge_edge(const CcdPoints& p, double& toi, StepStats& s) const {
+    return edge_edge_ccd(p, toi, options, &s.ee_ccd);
+  }
+};
+
+/// Reads the step's positions (interleaved doubles, global vertex ids) and volumes through
+/// references owned by the stepper, so one object serves every step.
+template <BoundingVolume BV, class NarrowPhase = ConservativeCcd>
+class LeafPairs {
+ public:
+  LeafPairs(const MeshTopology& topo, const Carriers& carriers, const BvhTopology& bvh,
+            const std::vector<BV>& node_volumes, const SweptVolumes<BV>& swept, const Positions& x0,
+            const Positions& x1, NarrowPhase narrow)
+      : topo_(topo), carriers_(carriers), bvh_(bvh), nodes_(node_volumes), swept_(swept), x0_(x0), x1_(x1),
+        narrow_(narrow) {}
+
+  /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).
+  void process(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
+    ++out.stats.leaf_pairs;
+    // Every feature of s and t lies in its triangle during each piece of the step: when the
+    // triangles' piece volumes never meet, no feature pair below can pass its own test.
+    if (!swept_.faces_pieces_overlap(s, t)) return;
+    const Triangle& S = topo_.faces()[s];
+    const Triangle& T = topo_.faces()[t];
+    for (auto v : S)
+      if (carriers_.carries_vf(v, s, t)) test_vf(v, t, out);
+    for (auto v : T)
+      if (carriers_.carries_vf(v, t, s)) test_vf(v, s, out);
+    const auto& es = topo_.face_edges(s);
+    const auto& et = topo_.face_edges(t);
+    for (auto a : es)
+      for (auto b : et)
+        if (carriers_.carries_ee(a, s, b, t)) test_ee(a, b, out);
+  }
+
+  /// Vertex v against face f, behind the feature-volume tests.
+  void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
+    ++out.stats.feature_box_tests;
+    if (!swept_.vertex(v).overlaps(nodes_[bvh_.leaf_of(f)])) return;
+    if (!swept_.vertex_face_pieces_overlap(v, f)) return;
+    ++out.stats.vf_tests;
+    const Triangle& t = topo_.faces()[f];
+    CcdPoints p;
+    load({v, t[0], t[1], t[2]}, p);
+    double toi = 0;
+    if (narrow_.vertex_face(p, toi, out.stats)) out.contacts.push_back({v, f, ContactKind::VertexFace, toi});
+  }
+
+  /// Edges a and b (sharing no vertex), behind the feature-volume tests.
+  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+    if (a > b) std::swap(a, b);
+    ++out.stats.feature_box_tests;
+    if (!swept_.edge(a).overlaps(swept_.edge(b))) return;
+    const Edge& ea = topo_.edges()[a];
+    const Edge& eb = topo_.edges()[b];
+    if (!swept_.edges_pieces_overlap(ea, eb)) return;
+    ++out.stats.ee_tests;
+    CcdPoints p;
+    load({ea[0], ea[1], eb[0], eb[1]}, p);
+    double toi = 0;
+    if (narrow_.edge_edge(p, toi, out.stats)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
+  }
+
+ private:
+  void load(const std::array<std::uint32_t, 4>& ids, CcdPoints& p) const {
+    for (int k = 0; k < 4; ++k) {
+      p.start[k] = x0_.point(ids[k]);
+      p.end[k] = x1_.point(ids[k]);
+    }
+  }
+
+  const MeshTopology& topo_;
+  const Carriers& carriers_;
+  const BvhTopology& bvh_;
+  const std::vector<BV>& nodes_;
+  const SweptVolumes<BV>& swept_;
+  const Positions& x0_;
+  const Positions& x1_;
+  NarrowPhase narrow_;
+};
+
+}  // namespace mccd::detail

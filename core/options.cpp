@@ -1,0 +1,57 @@
+#include <mccd/core/options.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <mccd/geometry/error.h>
+
+namespace mccd {
+
+const char* to_string(Method m) {
+  switch (m) {
+    case Method::BruteForce: return "bruteforce";
+    case Method::Traverse: return "traverse";
+    case Method::Phc: return "phc";
+    case Method::Fbd: return "fbd";
+  }
+  return "?";
+}
+
+Method parse_method(const char* name) {
+  if (!std::strcmp(name, "bruteforce")) return Method::BruteForce;
+  if (!std::strcmp(name, "traverse")) return Method::Traverse;
+  if (!std::strcmp(name, "phc")) return Method::Phc;
+  if (!std::strcmp(name, "fbd") || !std::strcmp(name, "front")) return Method::Fbd;
+  throw Error(std::string("unknown method '") + name + "' (expected bruteforce, traverse, phc or fbd)");
+}
+
+const char* to_string(VolumeKind v) {
+  switch (v) {
+    case VolumeKind::Kdop18: return "kdop18";
+    case VolumeKind::Aabb: return "aabb";
+  }
+  return "?";
+}
+
+VolumeKind parse_volume(const char* name) {
+  if (!std::strcmp(name, "kdop18")) return VolumeKind::Kdop18;
+  if (!std::strcmp(name, "aabb")) return VolumeKind::Aabb;
+  throw Error(std::string("unknown bounding volume '") + name + "' (expected kdop18 or aabb)");
+}
+
+void validate(const SceneOptions& o) {
+  if (static_cast<unsigned>(o.method) > static_cast<unsigned>(Method::Fbd))
+    throw Error("scene options: method " + std::to_string(static_cast<unsigned>(o.method)) +
+                " is not a Method (expected bruteforce, traverse, phc or fbd)");
+  if (static_cast<unsigned>(o.volume) > static_cast<unsigned>(VolumeKind::Aabb))
+    throw Error("scene options: volume " + std::to_string(static_cast<unsigned>(o.volume)) +
+                " is not a VolumeKind (expected kdop18 or aabb)");
+  if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))
+    throw Error("scene options: min_distance must be finite and >= 0, got " + std::to_string(o.min_distance));
+  if (!(o.rebuild_sprout_ratio > 0) || !(o.rebuild_invalid_ratio > 0))
+    throw Error("scene options: rebuild ratios must be > 0, got " + std::to_string(o.rebuild_sprout_ratio) + " and " +
+                std::to_string(o.rebuild_invalid_ratio));
+}
+
+}  // namespace mccd

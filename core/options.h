@@ -1,0 +1,51 @@
+#pragma once
+/// @file How a scene steps: the method, the bounding volume, the front's rebuild rule, the
+/// minimum distance, and where the parallel stages run.
+#include <cstdint>
+
+#include <oneapi/tbb/task_arena.h>
+
+namespace mccd {
+
+/// How a step finds its candidate pairs. All four return identical contacts.
+enum class Method : std::uint8_t {
+  BruteForce,  ///< every feature pair, swept-box sweep and prune; the oracle, small scenes
+  Traverse,    ///< BVTT traversal from the root every step, serial (the paper's serial baseline)
+  Phc,         ///< the paper's PHC baseline (section 3.3): from the root every step, the BVTT's
+               ///< top expanded breadth-first into subtasks that then run in parallel
+  Fbd,         ///< front-based decomposition (the paper's FBD, the default): the BVTT front
+               ///< tracked from step to step in parallel blocks, adaptive rebuild
+};
+/// "bruteforce", "traverse", "phc" or "fbd".
+const char* to_string(Method m);
+/// Parses "bruteforce", "traverse", "phc", "fbd" (or its alias "front"); throws mccd::Error
+/// naming the accepted values otherwise.
+Method parse_method(const char* name);
+
+/// The bounding volume of the scene BVH.
+enum class VolumeKind : std::uint8_t { Kdop18, Aabb };
+/// "kdop18" or "aabb".
+const char* to_string(VolumeKind v);
+/// Parses "kdop18" or "aabb"; throws mccd::Error otherwise.
+VolumeKind parse_volume(const char* name);
+
+struct SceneOptions {
+  Method method = Method::Fbd;  ///< default method of step() and advance()
+  VolumeKind volume = VolumeKind::Kdop18;
+  /// Rebuild the front from the root when S/L (nodes inserted by sprouting since the last
+  /// build over the front size) exceeds this (paper equation 3). > 0.
+  double rebuild_sprout_ratio = 0.30;
+  /// ... or when B/L (nodes invalidated since the last build) exceeds this (equation 4). > 0.
+  double rebuild_invalid_ratio = 0.45;
+  /// Report pairs that come within this distance (finite, >= 0) as contacts.
+  double min_distance = 0.0;
+  /// Where the parallel stages run; nullptr: the caller's arena. mccd never creates a
+  /// global_control and never changes the arena's concurrency.
+  tbb::task_arena* arena = nullptr;
+};
+
+/// Throws mccd::Error naming the option when a value is out of range (an unknown method or
+/// volume, a ratio <= 0 or NaN, a negative or non-finite distance).
+void validate(const SceneOptions& options);
+
+}  // namespace mccd

@@ -1,0 +1,43 @@
+#include <mccd/core/stats.h>
+
+namespace mccd {
+
+namespace {
+void add(CcdCounters& a, const CcdCounters& b) {
+  a.queries += b.queries;
+  a.box_culled += b.box_culled;
+  a.coplanar_culled += b.coplanar_culled;
+  a.root_tests += b.root_tests;
+  a.fallbacks += b.fallbacks;
+  a.hits += b.hits;
+}
+}  // namespace
+
+StepStats& StepStats::operator+=(const StepStats& o) {
+  volume_tests += o.volume_tests;
+  feature_box_tests += o.feature_box_tests;
+  vf_tests += o.vf_tests;
+  ee_tests += o.ee_tests;
+  add(vf_ccd, o.vf_ccd);
+  add(ee_ccd, o.ee_ccd);
+  vf_contacts += o.vf_contacts;
+  ee_contacts += o.ee_contacts;
+  leaf_pairs += o.leaf_pairs;
+  adjacent_leaf_pairs += o.adjacent_leaf_pairs;
+  sprouted += o.sprouted;
+  invalidated += o.invalidated;
+  rebuilds += o.rebuilds;
+  orphan_vf_tested += o.orphan_vf_tested;
+  orphan_ee_tested += o.orphan_ee_tested;
+  front_size += o.front_size;
+  front_bytes += o.front_bytes;
+  t_update += o.t_update;
+  t_refit += o.t_refit;
+  t_front += o.t_front;
+  t_orphans += o.t_orphans;
+  t_contacts += o.t_contacts;
+  t_total += o.t_total;
+  return *this;
+}
+
+}  // namespace mccd

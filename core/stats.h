@@ -1,0 +1,43 @@
+#pragma once
+/// @file What a step did: one counters type, filled by every stage and worker and added up
+/// field by field in one place (operator+=).
+#include <cstdint>
+
+#include <mccd/core/options.h>
+#include <mccd/geometry/ccd.h>
+
+namespace mccd {
+
+/// Counts are exact and independent of the thread count; times are wall-clock seconds.
+struct StepStats {
+  Method method = Method::Fbd;
+  std::uint64_t volume_tests = 0;       ///< bounding-volume overlap tests of BVH node pairs
+  std::uint64_t feature_box_tests = 0;  ///< feature-pair swept-volume tests before elementary tests
+  std::uint64_t vf_tests = 0;           ///< vertex-face elementary tests run
+  std::uint64_t ee_tests = 0;           ///< edge-edge elementary tests run
+  /// Per-stage counts inside the elementary tests (queries, culled by the swept box and by
+  /// the coplanarity filter, root isolation, fallbacks, hits).
+  CcdCounters vf_ccd, ee_ccd;
+  std::uint64_t vf_contacts = 0;
+  std::uint64_t ee_contacts = 0;
+  std::uint64_t leaf_pairs = 0;         ///< non-adjacent leaf pairs whose volumes overlapped
+  /// Adjacent leaf pairs the traversal reached and skipped (their features are the orphan
+  /// set's); without the orphan set they would be front nodes (paper equation 5, B_a).
+  std::uint64_t adjacent_leaf_pairs = 0;
+  std::uint64_t sprouted = 0;           ///< front nodes inserted by sprouting this step (S)
+  std::uint64_t invalidated = 0;        ///< front nodes that overlapped and were expanded (B)
+  std::uint64_t rebuilds = 0;           ///< 1 when the front was built from the root this step
+  std::uint64_t orphan_vf_tested = 0;   ///< orphan VF pairs whose volumes overlapped and were tested
+  std::uint64_t orphan_ee_tested = 0;
+  std::uint64_t front_size = 0;         ///< front nodes after the step (fbd only)
+  std::uint64_t front_bytes = 0;        ///< bytes held by the front buffers (fbd only)
+  /// Stage times: volume update, refit, candidate search with leaf pairs and elementary tests
+  /// (front tracking, traversal or brute force), orphan tests (concurrent with the search), the
+  /// join of contacts into the canonical order, and the whole step.
+  double t_update = 0, t_refit = 0, t_front = 0, t_orphans = 0, t_contacts = 0, t_total = 0;
+
+  /// Adds every count and time of `o` (the method is kept).
+  StepStats& operator+=(const StepStats& o);
+};
+
+}  // namespace mccd

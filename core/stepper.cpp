@@ -1,0 +1,136 @@
+#include <mccd/core/stepper.h>
+
+#include <mccd/core/brute_force.h>
+#include <mccd/parallel/front_tracking.h>
+#include <mccd/parallel/phc.h>
+#include <mccd/parallel/volume_update.h>
+
+namespace mccd::detail {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::vector<Vec3> centroids(const MeshTopology& topo, const Positions& x) {
+  std::vector<Vec3> c(topo.num_faces());
+  for (std::size_t f = 0; f < c.size(); ++f) {
+    const Triangle& t = topo.faces()[f];
+    c[f] = (x.point(t[0]) + x.point(t[1]) + x.point(t[2])) / 3.0;
+  }
+  return c;
+}
+
+void add_stats(std::vector<WorkerOutput>& units, std::size_t n, StepStats& total) {
+  for (std::size_t i = 0; i < n; ++i) total += units[i].stats;
+}
+}  // namespace
+
+template <BoundingVolume BV>
+Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial)
+    : scene_(scene),
+      options_(options),
+      x0_(initial),
+      x1_(initial),
+      bvh_(centroids(scene.topology(), initial)),
+      refit_plan_(bvh_),
+      nodes_(bvh_.size()),
+      leaf_(scene.topology(), scene.carriers(), bvh_, nodes_, swept_, x0_, x1_,
+            ConservativeCcd{CcdOptions{options.min_distance}}),
+      bvtt_(bvh_, nodes_, scene.topology(), leaf_) {
+  swept_.resize(scene.topology());
+  graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
+                                                         [this] { search(); }, [this] { orphans(); },
+                                                         [this] { join(); }});
+}
+
+template <BoundingVolume BV>
+StepResult Stepper<BV>::step(Method method) {
+  method_ = method;
+  result_ = StepResult{};
+  result_.stats.method = method;
+  contacts_.clear();
+  orphan_out_.clear();
+  graph_->run();
+  return std::move(result_);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::update() {
+  const auto t = Clock::now();
+  update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance);
+  result_.stats.t_update = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::refit() {
+  const auto t = Clock::now();
+  const auto& faces = scene_.topology().faces();
+  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) { return swept_.triangle(faces[f]); });
+  result_.stats.t_refit = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::search() {
+  const auto t = Clock::now();
+  StepStats& st = result_.stats;
+  switch (method_) {
+    case Method::BruteForce:
+      serial_.clear();
+      brute_force(scene_.topology(), bvh_, nodes_, swept_, leaf_, serial_);
+      flush(serial_, contacts_);
+      st += serial_.stats;
+      break;
+    case Method::Traverse:
+      traverse_serial<false>(bvtt_, serial_, contacts_);
+      st += serial_.stats;
+      break;
+    case Method::Phc:
+      traverse_phc<false>(bvtt_, units_, contacts_);
+      add_stats(units_, units_.size(), st);
+      break;
+    case Method::Fbd:
+      search_fbd();
+      break;
+  }
+  st.t_front = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::search_fbd() {
+  StepStats& st = result_.stats;
+  if (front_.needs_build()) {
+    traverse_phc<true>(bvtt_, units_, contacts_);
+    add_stats(units_, units_.size(), st);
+    front_.build(units_);
+    st.rebuilds = 1;
+  } else {
+    const std::size_t n = track_front(bvtt_, front_, units_, contacts_);
+    add_stats(units_, n, st);
+    front_.advance(units_, n, options_.rebuild_sprout_ratio, options_.rebuild_invalid_ratio);
+  }
+  st.front_size = front_.size();
+  st.front_bytes = front_.bytes();
+  for (const WorkerOutput& o : units_) st.front_bytes += o.front.capacity() * sizeof(NodePair);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::orphans() {
+  if (method_ == Method::BruteForce) return;  // brute force already covers every pair
+  const auto t = Clock::now();
+  test_orphans(scene_.orphans(), leaf_, orphan_out_);
+  flush(orphan_out_, contacts_);
+  orphan_out_.stats.t_orphans = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::join() {
+  const auto t = Clock::now();
+  result_.stats += orphan_out_.stats;
+  join_contacts(contacts_, scene_, result_);
+  result_.stats.t_contacts = seconds_since(t);
+}
+
+template class Stepper<Kdop18>;
+template class Stepper<Aabb>;
+
+}  // namespace mccd::detail

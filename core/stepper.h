@@ -1,0 +1,86 @@
+#pragma once
+/// @file Internal: all per-step state of a scene for one bounding-volume type, and the stages of
+/// a step.
+///
+/// A step (DESIGN "The pipeline of one step"), run by the flow graph of parallel/step_graph.h:
+///  1. update: the positions of the step's two ends become swept volumes per vertex, edge and
+///     face (parallel/volume_update.h);
+///  2. refit: the BVH's node volumes, bottom-up under a static partition (parallel/refit.h);
+///  3. search, by method: brute force (core/brute_force.h); a serial traversal from the root;
+///     PHC (parallel/phc.h); or FBD: front tracking in parallel blocks (parallel/
+///     front_tracking.h), building the front from the root first when the rebuild rule says
+///     so (core/bvtt_front.h). Leaf pairs and elementary tests run where the traversal meets
+///     them (core/leaf_pairs.h): traversal and narrow phase are one stage;
+///  4. orphans, beside 3: the orphan set's tests (core/orphans.h);
+///  5. join: the contacts into the canonical order (parallel/contact_buffer.h).
+/// Every stage writes only its own outputs (per block, per task, per stage); the join reads
+/// them in a fixed order, so a step's result does not depend on the thread count.
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include <mccd/core/bvtt.h>
+#include <mccd/core/bvtt_front.h>
+#include <mccd/core/leaf_pairs.h>
+#include <mccd/core/options.h>
+#include <mccd/core/scene_topology.h>
+#include <mccd/parallel/contact_buffer.h>
+#include <mccd/parallel/refit.h>
+#include <mccd/parallel/step_graph.h>
+
+namespace mccd::detail {
+
+template <BoundingVolume BV>
+class Stepper {
+ public:
+  /// Builds the BVH over the triangles' centroids at the positions `initial` (global ids).
+  Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial);
+
+  /// The step's start and end positions, global vertex ids, filled by the caller before step().
+  Positions& start() { return x0_; }
+  Positions& end() { return x1_; }
+  const Positions& end() const { return x1_; }
+
+  /// Runs one step from start() to end() with `method` in the calling thread's arena.
+  StepResult step(Method method);
+
+  std::size_t bvh_depth() const { return bvh_.depth(); }
+  std::size_t bvh_size() const { return bvh_.size(); }
+  /// Forgets the front (the next fbd step rebuilds it from the root).
+  void invalidate_front() { front_.invalidate(); }
+
+ private:
+  using Leaf = LeafPairs<BV>;
+  using Clock = std::chrono::steady_clock;
+
+  void update();
+  void refit();
+  void search();
+  void orphans();
+  void join();
+  void search_fbd();
+
+  const SceneTopology& scene_;
+  SceneOptions options_;
+  Positions x0_, x1_;
+  BvhTopology bvh_;
+  RefitPlan refit_plan_;
+  std::vector<BV> nodes_;  ///< one volume per BVH node
+  SweptVolumes<BV> swept_;
+  Leaf leaf_;
+  Bvtt<BV, Leaf> bvtt_;
+  BvttFront front_;
+
+  // the current step
+  Method method_ = Method::Fbd;
+  StepResult result_;
+  std::vector<WorkerOutput> units_;  ///< per front block, or per PHC task
+  WorkerOutput serial_, orphan_out_;
+  ContactBuffer contacts_;
+  std::unique_ptr<StepGraph> graph_;
+};
+
+extern template class Stepper<Kdop18>;
+extern template class Stepper<Aabb>;
+
+}  // namespace mccd::detail

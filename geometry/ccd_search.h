@@ -1,0 +1,288 @@
+#pragma once
+/// @file Internal: stage (c) of the elementary CCD tests, the certified search over dyadic time
+/// pieces, earliest first (the contract and the shortcuts are documented in geometry/ccd.h).
+#include <type_traits>
+
+#include <mccd/geometry/ccd_exact.h>
+#include <mccd/geometry/ccd_stages.h>
+
+namespace mccd::detail {
+
+// The earliest point of [lo, hi] where the cubic may vanish, given that it certainly does
+// vanish in [lo, hi] (opposite certain signs at the ends): bisect, keeping the left half
+// unless the cubic is certainly nonzero on it.
+template <class T>
+T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth) {
+  while (depth < max_depth) {
+    Bern<3, T> l, r;
+    const T e = split_half(f, ef, l, r);
+    const T mid = (lo + hi) / 2;
+    if (definite_sign(l, e) != 0) {
+      f = r;
+      lo = mid;
+    } else {
+      f = l;
+      hi = mid;
+    }
+    ef = e;
+    ++depth;
+  }
+  return lo;
+}
+
+enum class Outcome { Miss, Hit, Undecided };
+
+// On a piece where every inside function is certainly positive, contact happens exactly at
+// the roots of the cubic: search them alone (earliest first). Miss: the cubic is certainly
+// nonzero on the piece. Hit: a certain sign change; toi = the earliest point where the cubic
+// may vanish. Undecided: an uncertain subpiece at max_depth; toi = its start.
+template <class T>
+Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi) {
+  struct Item {
+    Bern<3, T> f;
+    T ef, lo, hi;
+    int depth;
+  };
+  Item st[kCcdMaxDepthLong + 4];
+  int top = 0;
+  st[top++] = {P.f, P.ef, P.lo, P.hi, P.depth};
+  while (top > 0) {
+    const Item I = st[--top];
+    if (definite_sign(I.f, I.ef + dN) != 0) continue;
+    const T c0 = I.f.c[0], c3 = I.f.c[3];
+    if ((c0 > I.ef && c3 < -I.ef) || (c0 < -I.ef && c3 > I.ef)) {
+      // With d > 0 the first time within d may precede the coplanar time: keep lo.
+      toi = dN > 0 ? I.lo : refine_toi(I.f, I.ef, I.lo, I.hi, I.depth, kCcdToiDepth);
+      return Outcome::Hit;
+    }
+    if (I.depth >= max_depth || --budget <= 0) {
+      toi = I.lo;
+      return Outcome::Undecided;
+    }
+    Item& R = st[top++];
+    Item& L = st[top++];
+    L.ef = R.ef = split_half(I.f, I.ef, L.f, R.f);
+    L.lo = I.lo, L.hi = R.lo = (I.lo + I.hi) / 2, R.hi = I.hi;
+    L.depth = R.depth = I.depth + 1;
+  }
+  return Outcome::Miss;
+}
+
+
+// Shortcut of the bisection on a piece P where the cubic certainly changes sign and nothing
+// else is decided: locate the sign change (floating-point bisection on f; any estimate is
+// sound), take the window W of width 16 h (h = 2^-max_depth, W on the grid of h, so every
+// bound used below is exact in T and 1 - lo, 1 - hi are exact) around it, and prove with
+// rigorous bounds (the polynomials restricted from the root piece) that the cubic is
+// certainly nonzero (beyond d |n|) on P left and right of W: no contact there. Then W, with
+// every polynomial restricted to it, replaces P; it lies where P would have been bisected
+// to after about max_depth - 4 levels. False (nothing changed) when the proof fails.
+template <class T>
+bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_depth, Piece<T>& W) {
+  const T c0 = P.f.c[0], c3 = P.f.c[3];
+  if (!((c0 > P.ef && c3 < -P.ef) || (c0 < -P.ef && c3 > P.ef))) return false;
+  const T h = std::ldexp(T(1), -max_depth);
+  const T width = P.hi - P.lo;
+  if (width <= std::ldexp(T(1), 6 - max_depth)) return false;
+  const bool neg0 = c0 < 0;
+  T sl = 0, sr = 1;
+  for (int it = 0; it < 100 && (sr - sl) * width > h; ++it) {
+    const T sm = (sl + sr) / 2;
+    if ((eval_at(P.f, sm) < 0) == neg0)
+      sl = sm;
+    else
+      sr = sm;
+  }
+  const T ts = P.lo + (sl + sr) / 2 * width;
+  // Window half-widths 8 h, 256 h, 8192 h: the uncertainty of the sign change may be wider
+  // than a few h when the error bounds are large against the slope of the cubic.
+  T a = 0, b = 0;
+  int k = 3;
+  for (; k <= 13; k += 5) {
+    const T m = std::ldexp(T(1), k);
+    a = std::max(P.lo, std::floor(ts / h - m) * h);
+    b = std::min(P.hi, a + 2 * m * h);
+    if (!(a > P.lo || b < P.hi) || !(a < b)) return false;
+    Bern<3, T> side;
+    if (a > P.lo && definite_sign(side, restrict_to(R.f, R.ef, P.lo, a, side) + dN) == 0) continue;
+    if (b < P.hi && definite_sign(side, restrict_to(R.f, R.ef, b, P.hi, side) + dN) == 0) continue;
+    break;
+  }
+  if (k > 13) return false;
+  W.lo = a, W.hi = b, W.depth = std::max(P.depth + 1, max_depth - k - 1);
+  W.ef = restrict_to(R.f, R.ef, a, b, W.f);
+  for (int i = 0; i < ng; ++i) W.eg[i] = restrict_to(R.g[i], R.eg[i], a, b, W.g[i]);
+  return true;
+}
+
+// Depth-first search over dyadic time pieces, earliest first. A piece is cleared when the
+// cubic is certainly nonzero on it, or (d = 0) some inside function is certainly negative,
+// or a separating direction holds over it. A piece is a certified hit when the cubic
+// certainly changes sign over it and every inside function is certainly positive.
+// Undecided pieces are halved down to max_depth; the first undecided one at max_depth (or
+// when the piece budget is spent) ends the search as Undecided with toi = its start.
+// At t = 0 (end = 0) or t = 1 (end = 1) of the root piece: the cubic is zero and every inside
+// function is >= 0 within the error bounds (a necessary condition of touching there).
+inline bool may_touch_at(const Piece<double>& R, int ng, int end) {
+  if (!(std::fabs(R.f.c[end * 3]) <= R.ef)) return false;
+  for (int i = 0; i < ng; ++i)
+    if (!(R.g[i].c[end * 4] >= -R.eg[i])) return false;
+  return true;
+}
+
+struct LongPass;
+inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
+inline bool touches_at_end(LongPass& lp);
+
+template <class T>
+Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
+               T& toi, LongPass* long_pass) {
+  Piece<T> stack[kCcdMaxDepthLong + 4];
+  int top = 0;
+  stack[top++] = start;
+  const bool use_inside = !(S.d > 0);
+  while (top > 0) {
+    const Piece<T> P = stack[--top];
+    --budget;
+    if (definite_sign(P.f, P.ef + S.dN) != 0) continue;
+    bool excluded = false, all_positive = true;
+    for (int i = 0; i < ng; ++i) {
+      const int sg = definite_sign(P.g[i], P.eg[i]);
+      if (sg < 0 && use_inside) excluded = true;
+      all_positive = all_positive && sg > 0;
+    }
+    if (excluded) continue;
+    if constexpr (std::is_same_v<T, double>) {
+      // A proved touch at t = 1 and a piece reaching t = 1: when the cubic is certainly
+      // nonzero on [lo, 1 - 2^-k], the first contact lies in [1 - 2^-k, 1]; toi = 1 - 2^-k.
+      if (P.hi == 1 && long_pass && touches_at_end(*long_pass)) {
+        for (const int k : {40, 24, 12}) {
+          const double b = 1 - std::ldexp(1.0, -k);
+          if (!(b > P.lo)) continue;
+          Bern<3, T> side;
+          if (definite_sign(side, restrict_to(root.f, root.ef, P.lo, b, side) + S.dN) != 0) {
+            toi = b;
+            return Outcome::Hit;
+          }
+        }
+      }
+    }
+    if (all_positive) {
+      // Every g > 0: contact exactly at the roots of the cubic in the piece.
+      int md = max_depth;
+      bool end_touch = false;
+      if constexpr (std::is_same_v<T, double>) {
+        end_touch = long_pass && touches_at_end(*long_pass);
+        if (end_touch) md = std::max(P.depth, std::min(max_depth, kCcdCertDepth));
+      }
+      Outcome r = cubic_roots(P, S.dN, md, budget, toi);
+      if constexpr (std::is_same_v<T, double>) {
+        // A certain touch at t = 1 makes any undecided piece a contact (toi = its start).
+        if (r == Outcome::Undecided && end_touch) return Outcome::Hit;
+        if (r == Outcome::Undecided && long_pass && budget > 0) r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
+      }
+      if (r == Outcome::Miss) continue;
+      return r;
+    }
+    // The separation test is the most expensive one: tried at every third level only.
+    if ((P.depth % 3 == 0 || P.depth >= max_depth - 1) && separated(S, P.lo, P.hi)) continue;
+    if constexpr (std::is_same_v<T, double>) {
+      // Every earlier piece is cleared; with a proved touch at t = 1, the first contact lies
+      // in [lo, 1]: report it at lo instead of bisecting further.
+      if (P.depth >= kCcdCertDepth && long_pass && touches_at_end(*long_pass)) {
+        toi = P.lo;
+        return Outcome::Hit;
+      }
+    }
+    if (P.depth >= max_depth || budget <= 0) {
+      if constexpr (std::is_same_v<T, double>) {
+        // Second opinion in extended precision on this piece only.
+        if (long_pass && budget > 0) {
+          const Outcome r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
+          if (r == Outcome::Miss) continue;
+          return r;
+        }
+      }
+      // Every earlier piece was cleared, so lo is never later than the first contact.
+      toi = P.lo;
+      return Outcome::Undecided;
+    }
+    if (P.depth % 4 == 0 && jump_to_root(root, P, ng, S.dN, max_depth, stack[top])) {
+      ++top;
+      continue;
+    }
+    Piece<T>& R = stack[top++];
+    Piece<T>& L = stack[top++];
+    const T mid = (P.lo + P.hi) / 2;
+    L.lo = P.lo, L.hi = mid, R.lo = mid, R.hi = P.hi;
+    L.depth = R.depth = P.depth + 1;
+    L.ef = R.ef = split_half(P.f, P.ef, L.f, R.f);
+    for (int i = 0; i < ng; ++i) L.eg[i] = R.eg[i] = split_half(P.g[i], P.eg[i], L.g[i], R.g[i]);
+  }
+  return Outcome::Miss;
+}
+
+// Largest double <= x.
+inline double round_down(long double x) {
+  double r = static_cast<double>(x);
+  if (static_cast<long double>(r) > x) r = std::nextafter(r, -HUGE_VAL);
+  return r;
+}
+
+// The extended-precision pass (where long double is wider than double): the same search,
+// with error bounds about 2^11 times smaller, on the pieces the double search left
+// undecided at its maximum depth. Its setup is built on first use.
+struct LongPass {
+  const Setup<double>* S = nullptr;
+  bool ready = false;
+  Setup<long double> L;
+  Piece<long double> root;
+  int ng = 0;
+  int budget = kCcdPieceBudgetLong;
+  CcdCounters* counters = nullptr;
+  // Exact touch at t = 1 (the input doubles): -1 not yet checked, 0 not proved, 1 proved.
+  const CcdPoints* points = nullptr;
+  const Piece<double>* root_d = nullptr;
+  int ng_d = 0;
+  int touch_at_end = -1;
+};
+
+inline bool touches_at_end(LongPass& lp) {
+  if (lp.touch_at_end < 0) {
+    const bool maybe = may_touch_at(*lp.root_d, lp.ng_d, 1);
+    lp.touch_at_end = maybe && (lp.S->kind == CcdKind::VertexFace ? exact_vertex_face_touch(lp.points->end)
+                                                                  : exact_edge_edge_touch(lp.points->end));
+  }
+  return lp.touch_at_end == 1;
+}
+
+inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi) {
+  if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
+    if (lp.counters) ++lp.counters->fallbacks;
+    if (!lp.ready) {
+      lp.L.kind = lp.S->kind;
+      lp.L.d = lp.S->d;
+      for (int i = 0; i < 4; ++i) {
+        lp.L.s[i] = {lp.S->s[i].x, lp.S->s[i].y, lp.S->s[i].z};
+        lp.L.e[i] = {lp.S->e[i].x, lp.S->e[i].y, lp.S->e[i].z};
+      }
+      coplanarity(lp.L);
+      lp.root.f = lp.L.f;
+      lp.ng = setup_inside(lp.L, lp.root);
+      lp.ready = true;
+    }
+    Piece<long double> P;
+    P.lo = lo, P.hi = hi, P.depth = depth;
+    P.ef = restrict_to(lp.root.f, lp.root.ef, P.lo, P.hi, P.f);
+    for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
+    long double t = 0;
+    const Outcome r = search(lp.L, lp.root, P, lp.ng, kCcdMaxDepthLong, lp.budget, t, static_cast<LongPass*>(nullptr));
+    if (r != Outcome::Miss) toi = round_down(t);
+    return r;
+  } else {
+    toi = lo;
+    return Outcome::Undecided;
+  }
+}
+
+}  // namespace mccd::detail

@@ -1,0 +1,124 @@
+#pragma once
+/// @file Internal: one elementary CCD query after loading. The points at t = 0 and t = 1 (scaled
+/// exactly by a power of two), the difference vectors and the coplanarity cubic of stage (b),
+/// the time pieces of stage (c), and the rigorous separation test along a direction that both
+/// primitive kinds share.
+#include <cfloat>
+
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_bernstein.h>
+#include <mccd/geometry/ccd_detail.h>
+
+namespace mccd::detail {
+
+// The query after loading: points at t = 0 (s) and t = 1 (e), scaled by a power of two so
+// that the largest coordinate lies in [2^-60, 2^60]; `d` the scaled minimum distance.
+template <class T>
+struct Setup {
+  using V = V3<T>;
+  CcdKind kind;
+  V s[4], e[4];
+  T d = 0;
+  V X00, X01, X10, X11;      // VF: B x C at (t0|t1) x (t0|t1); EE: da x db
+  V A0, A1, B0, B1, C0, C1;  // VF: a-p, b-p, c-p; EE: da, db, w
+  T alpha = 0, beta = 0, gamma = 0;
+  Bern<3, T> f;
+  T ef = 0;  // error bound of f
+  T dN = 0;  // d * (bound on |n(t)| or |e(t)|)
+  // Separation pairs x - y at t = 0 and 1 (VF: p - corner; EE: end of b - end of a).
+  int npairs = 0;
+  V D0[4], D1[4];
+};
+
+enum class Load { Ok, AllZero, Unsafe };
+
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
+  double mx = 0;
+  for (int i = 0; i < 4; ++i) {
+    S.s[i] = {p.start[i].x(), p.start[i].y(), p.start[i].z()};
+    S.e[i] = {p.end[i].x(), p.end[i].y(), p.end[i].z()};
+    mx = std::max(mx, std::max(amax(S.s[i]), amax(S.e[i])));
+  }
+  S.d = min_distance;
+  if (mx <= 0x1p60 && mx >= 0x1p-60) return Load::Ok;
+  if (mx == 0) return Load::AllZero;
+  if (!std::isfinite(mx)) return Load::Unsafe;
+  // Exact power-of-two scaling (every scaled coordinate stays a normal number or zero).
+  const int ex = std::ilogb(mx);
+  auto scale = [&](double& x) {
+    x = std::ldexp(x, -ex);
+    return x == 0 || std::fabs(x) >= DBL_MIN;
+  };
+  bool exact = true;
+  for (int i = 0; i < 4; ++i)
+    for (V3<double>* v : {&S.s[i], &S.e[i]}) exact = scale(v->x) && scale(v->y) && scale(v->z) && exact;
+  if (!exact) return Load::Unsafe;
+  if (min_distance > 0) S.d = std::nextafter(std::ldexp(min_distance, -ex), HUGE_VAL);
+  return Load::Ok;
+}
+
+// Inside functions g_i: necessary conditions for contact at a time t (all g_i(t) >= 0):
+//   VF (with p the origin, A, B, C the corners): n = BxC + CxA + AxB, g = n.(BxC), n.(CxA),
+//      n.(AxB); at a coplanar time these are u|n|^2, v|n|^2, w|n|^2 with (u, v, w) the
+//      barycentric coordinates of p, so contact implies all >= 0, and all > 0 at a coplanar
+//      time implies contact.
+//   EE: e = da x db; g = (w x db).e, -((b0 - a1) x db).e, (w x da).e, (da x (b1 - a0)).e; if the
+//      segments meet at a0 + s da = b0 + r db these are s|e|^2, (1-s)|e|^2, r|e|^2, (1-r)|e|^2.
+// Pieces are dyadic intervals [lo, hi] of [0, 1], exact in T.
+template <class T>
+struct Piece {
+  T lo, hi;
+  int depth;
+  Bern<3, T> f;
+  T ef;
+  Bern<4, T> g[4];
+  T eg[4];
+};
+
+// Closest point to p on segment [a, b] (any point is fine for soundness).
+template <class T>
+inline V3<T> closest_on_segment(V3<T> p, V3<T> a, V3<T> b) {
+  const V3<T> ab = b - a;
+  const T den = dot(ab, ab);
+  if (!(den > 0)) return a;
+  const T t = std::clamp(dot(p - a, ab) / den, T(0), T(1));
+  return a + ab * t;
+}
+
+template <class T>
+inline T dist2(V3<T> a, V3<T> b) { return dot(a - b, a - b); }
+
+
+
+// Separation over [lo, hi] along w: for every pair (x, y) of a corner x of the second and y
+// of the first primitive (VF: x = p, y = corners; EE: x = ends of b, y = ends of a),
+// w.(x(t) - y(t)) > d |w| (or, for every pair, < -d |w|). Each is linear in t:
+// h(t) = (1-t) h0 + t h1 with h0, h1 computed to within 6 u |w|.|diff|; the bound at lo
+// and hi is checked with a 4 u margin for the interpolation.
+template <class T>
+bool separated_along(const Setup<T>& S, V3<T> w, T lo, T hi) {
+  using V = V3<T>;
+  constexpr T u = unit_roundoff<T>();
+  const T ww = dot(w, w);
+  if (!(ww > 0) || !std::isfinite(ww)) return false;
+  const T margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * u) : T(0);
+  bool pos = true, neg = true;
+  for (int k = 0; k < S.npairs; ++k) {
+    const V D0 = S.D0[k], D1 = S.D1[k];
+    const T h0 = dot(w, D0), h1 = dot(w, D1);
+    const T e0 = 6 * u * absdot(w, D0) + T(kTiny), e1 = 6 * u * absdot(w, D1) + T(kTiny);
+    const T slack = 4 * u * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + T(kTiny) + margin;
+    if (pos) {
+      const T l0 = h0 - e0, l1 = h1 - e1;
+      pos = l0 + lo * (l1 - l0) > slack && l0 + hi * (l1 - l0) > slack;
+    }
+    if (neg) {
+      const T u0 = h0 + e0, u1 = h1 + e1;
+      neg = u0 + lo * (u1 - u0) < -slack && u0 + hi * (u1 - u0) < -slack;
+    }
+    if (!pos && !neg) return false;
+  }
+  return true;
+}
+
+}  // namespace mccd::detail

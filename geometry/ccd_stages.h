@@ -1,0 +1,74 @@
+#pragma once
+/// @file Internal: the per-kind stages of an elementary CCD query, dispatched on its kind.
+/// Stage (b) builds the coplanarity cubic with its error bound; stage (c) needs the inside
+/// functions and the separation test (geometry/ccd_vertex_face.h, geometry/ccd_edge_edge.h).
+#include <mccd/geometry/ccd_edge_edge.h>
+#include <mccd/geometry/ccd_vertex_face.h>
+
+namespace mccd::detail {
+
+/// Stage (b): the coplanarity cubic in Bernstein form with its error bound. Error: 6 products
+/// of three differences per determinant, at most 9 roundings: |err| <= gamma_9 * 6 alpha beta
+/// gamma < 96 u alpha beta gamma (alpha, beta, gamma: largest absolute coordinate of the three
+/// difference vectors at t = 0 and 1). With a minimum distance d, dN = d times a bound on the
+/// length of the cubic's normal, the margin by which the cubic must clear zero.
+template <class T>
+void coplanarity(Setup<T>& S) {
+  constexpr T u = unit_roundoff<T>();
+  const bool vf = S.kind == CcdKind::VertexFace;
+  V3<T> a0, a1;
+  if (vf) {
+    vertex_face::differences(S);
+    vertex_face::cubic_factor(S, a0, a1);
+  } else {
+    edge_edge::differences(S);
+    edge_edge::cubic_factor(S, a0, a1);
+  }
+  S.alpha = std::max(amax(S.A0), amax(S.A1));
+  S.beta = std::max(amax(S.B0), amax(S.B1));
+  S.gamma = std::max(amax(S.C0), amax(S.C1));
+  S.f = cubic(a0, a1, S.X00, S.X01 + S.X10, S.X11);
+  S.ef = T(96) * u * (S.alpha * S.beta * S.gamma) + T(kTiny);
+  S.dN = 0;
+  if (S.d > 0) S.dN = S.d * (vf ? vertex_face::normal_bound(S) : edge_edge::normal_bound(S)) * (1 + 16 * u);
+}
+
+/// Computes the inside functions on [0, 1] and, for every polynomial of stage (c) (the cubic
+/// included), an error bound from its magnitude expression: gamma_k times the same expression
+/// on absolute values (k roundings at most: 9 for the cubic, 12 for the quartics; we take
+/// 16 u and 20 u, which also covers the rounding of the magnitudes themselves). Returns the
+/// number of inside functions.
+template <class T>
+int setup_inside(const Setup<T>& S, Piece<T>& P) {
+  QuadV<T> aX;
+  V3<T> a0, a1;
+  int ng;
+  if (S.kind == CcdKind::VertexFace) {
+    ng = vertex_face::inside(S, P, aX);
+    vertex_face::cubic_factor(S, a0, a1);
+  } else {
+    ng = edge_edge::inside(S, P, aX);
+    edge_edge::cubic_factor(S, a0, a1);
+  }
+  P.ef = std::min(S.ef, error_bound(cubic(vabs(a0), vabs(a1), aX.q[0], aX.q[1] * T(2), aX.q[2]), 16));
+  return ng;
+}
+
+/// Candidate separating directions at the middle of the piece: the closest-point direction,
+/// then the separating axes of the two convex primitives. Any direction is sound: the test
+/// itself is rigorous; good directions only make it succeed sooner.
+template <class T>
+bool separated(const Setup<T>& S, T lo, T hi) {
+  const T t = (lo + hi) / 2;
+  const bool vf = S.kind == CcdKind::VertexFace;
+  V3<T> P[4];
+  for (int i = 0; i < 4; ++i) P[i] = lerp(S.s[i], S.e[i], t);
+  if (separated_along(S, vf ? vertex_face::closest_direction(P) : edge_edge::closest_direction(P), lo, hi))
+    return true;
+  // Relative coordinates (origin at point 0) keep the rounding of the axes relative to u.
+  V3<T> R[4];
+  for (int i = 0; i < 4; ++i) R[i] = lerp(S.s[i] - S.s[0], S.e[i] - S.e[0], t);
+  return vf ? vertex_face::separated_by_axes(S, R, lo, hi) : edge_edge::separated_by_axes(S, R, lo, hi);
+}
+
+}  // namespace mccd::detail

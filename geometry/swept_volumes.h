@@ -1,0 +1,138 @@
+#pragma once
+/// @file Internal: the swept volumes of one step, per vertex, edge and face, over the whole step
+/// and over its pieces in time, for one bounding-volume type.
+///
+/// A vertex moves on a segment from x0 to x1; its volume bounds that segment (inflated by the
+/// minimum distance). A face's volume is the merge of its three vertex volumes and contains the
+/// swept triangle; an edge's likewise. Time pieces: the halves [0, 1/2], [1/2, 1] (pieces 0, 1)
+/// and the quarters [k/4, (k+1)/4] (pieces 2..5). A contact at time t lies in both features'
+/// volumes of every piece holding t, so two features can only meet when, for some half h, the
+/// half volumes overlap and one of that half's two quarter volumes overlap (pieces_overlap).
+///
+/// Consistency invariant that makes every method return identical contacts: every feature
+/// pair reaches the elementary test only after the overlap of its *feature volumes* (merges
+/// of the same per-vertex volumes that build the triangle and node volumes). A feature volume
+/// is contained in the volume of every triangle around the feature and of every BVH node
+/// above it, so whenever the feature test passes, every carrier pair and all its ancestors
+/// overlap and every method reaches the pair. The piece tests are only consulted after the
+/// whole-step volumes overlap, so they keep the invariant.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <mccd/geometry/kdop.h>
+#include <mccd/geometry/topology.h>
+
+namespace mccd::detail {
+
+template <BoundingVolume BV>
+using PieceVolumes = std::array<BV, 6>;
+
+/// Whether two features may meet at a common time (see the file comment), given
+/// `overlap(k)`: whether their volumes of piece k overlap (evaluated lazily, halves first).
+template <class Overlap>
+inline bool pieces_overlap(const Overlap& overlap) {
+  for (int h = 0; h < 2; ++h)
+    if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
+  return false;
+}
+
+template <BoundingVolume BV>
+inline PieceVolumes<BV> merged_pieces(const PieceVolumes<BV>& a, const PieceVolumes<BV>& b) {
+  PieceVolumes<BV> m;
+  for (int k = 0; k < 6; ++k) m[k] = BV::merged(a[k], b[k]);
+  return m;
+}
+
+template <BoundingVolume BV>
+class SweptVolumes {
+ public:
+  void resize(const MeshTopology& topo) {
+    vertex_.resize(topo.num_vertices());
+    vertex_pieces_.resize(topo.num_vertices());
+    edge_.resize(topo.num_edges());
+    face_pieces_.resize(topo.num_faces());
+  }
+
+  /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
+  /// inflated by `min_distance`. Each range writes only its own vertices.
+  void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v != end; ++v) {
+      const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
+      const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
+      BV d = BV::empty();
+      d.add_point(a);
+      d.add_point(b);
+      if (min_distance > 0) d.inflate(min_distance);
+      vertex_[v] = d;
+      // Pieces of the path, between computed points a + (k/4) (b - a). Those points and their
+      // projections carry rounding errors relative to the coordinates (not to the
+      // projections), so each piece is inflated by 2^-48 of the largest coordinate, far above
+      // those errors, on top of the outward float rounding.
+      const Vec3 step = b - a;
+      const Vec3 pts[5] = {a, a + 0.25 * step, a + 0.5 * step, a + 0.75 * step, b};
+      const double margin = std::ldexp(std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), -48) + min_distance;
+      auto piece = [&](int from, int to) {
+        BV h = BV::empty();
+        for (int k = from; k <= to; ++k) h.add_point(pts[k]);
+        h.inflate(margin);
+        return h;
+      };
+      PieceVolumes<BV>& p = vertex_pieces_[v];
+      p[0] = piece(0, 2);
+      p[1] = piece(2, 4);
+      for (int k = 0; k < 4; ++k) p[2 + k] = piece(k, k + 1);
+    }
+  }
+
+  /// Faces [begin, end): the merge of their corners' pieces (after update_vertices).
+  void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f != end; ++f) {
+      const Triangle& t = topo.faces()[f];
+      PieceVolumes<BV> m = merged_pieces(vertex_pieces_[t[0]], vertex_pieces_[t[1]]);
+      face_pieces_[f] = merged_pieces(m, vertex_pieces_[t[2]]);
+    }
+  }
+
+  /// Edges [begin, end): the merge of their two vertex volumes (after update_vertices).
+  void update_edges(const MeshTopology& topo, std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e != end; ++e) {
+      const Edge& ed = topo.edges()[e];
+      edge_[e] = BV::merged(vertex_[ed[0]], vertex_[ed[1]]);
+    }
+  }
+
+  const BV& vertex(std::uint32_t v) const { return vertex_[v]; }
+  const BV& edge(std::uint32_t e) const { return edge_[e]; }
+  BV triangle(const Triangle& f) const {
+    BV d = BV::merged(vertex_[f[0]], vertex_[f[1]]);
+    d.merge(vertex_[f[2]]);
+    return d;
+  }
+
+  /// Piece tests (see the file comment): only after the whole-step volumes overlap.
+  bool vertex_face_pieces_overlap(std::uint32_t v, std::uint32_t f) const {
+    const auto &a = vertex_pieces_[v], &b = face_pieces_[f];
+    return pieces_overlap([&](int k) { return a[k].overlaps(b[k]); });
+  }
+  bool faces_pieces_overlap(std::uint32_t s, std::uint32_t t) const {
+    const auto &a = face_pieces_[s], &b = face_pieces_[t];
+    return pieces_overlap([&](int k) { return a[k].overlaps(b[k]); });
+  }
+  /// Edge pieces are merged on demand, only for the pieces consulted.
+  bool edges_pieces_overlap(const Edge& ea, const Edge& eb) const {
+    const auto &a0 = vertex_pieces_[ea[0]], &a1 = vertex_pieces_[ea[1]];
+    const auto &b0 = vertex_pieces_[eb[0]], &b1 = vertex_pieces_[eb[1]];
+    return pieces_overlap([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
+  }
+
+ private:
+  std::vector<BV> vertex_;                        ///< per vertex: its swept segment
+  std::vector<PieceVolumes<BV>> vertex_pieces_;   ///< per vertex: its path over the pieces
+  std::vector<BV> edge_;                          ///< per edge: merge of its two vertex volumes
+  std::vector<PieceVolumes<BV>> face_pieces_;     ///< per face: merge of its corners' pieces
+};
+
+}  // namespace mccd::detail

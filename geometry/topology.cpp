@@ -1,0 +1,70 @@
+#include <mccd/geometry/topology.h>
+
+#include <algorithm>
+
+namespace mccd {
+
+MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>& faces) : faces_(faces) {
+  const std::size_t nf = faces.size();
+  // vertex -> faces, CSR
+  vertex_face_offsets_.assign(num_vertices + 1, 0);
+  for (const Triangle& t : faces)
+    for (auto v : t) ++vertex_face_offsets_[v + 1];
+  for (std::size_t v = 0; v < num_vertices; ++v) vertex_face_offsets_[v + 1] += vertex_face_offsets_[v];
+  vertex_faces_.resize(vertex_face_offsets_.back());
+  {
+    std::vector<std::uint32_t> fill(vertex_face_offsets_.begin(), vertex_face_offsets_.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (auto v : faces[f]) vertex_faces_[fill[v]++] = static_cast<std::uint32_t>(f);
+  }
+  // half-edges keyed by (max, min), then unique: gives the libigl order.
+  struct HalfEdge {
+    std::uint32_t hi, lo, face, corner;
+  };
+  std::vector<HalfEdge> half(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      std::uint32_t a = faces[f][k], b = faces[f][(k + 1) % 3];
+      half[3 * f + k] = {std::max(a, b), std::min(a, b), static_cast<std::uint32_t>(f), k};
+    }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    return x.hi != y.hi ? x.hi < y.hi : (x.lo != y.lo ? x.lo < y.lo : x.face < y.face);
+  });
+  // Half-edges of one edge are adjacent after the sort, ordered by face: the CSR of edge
+  // faces falls out directly.
+  face_edges_.assign(nf, {0, 0, 0});
+  edge_faces_.reserve(half.size());
+  for (std::size_t i = 0; i < half.size(); ++i) {
+    if (i == 0 || half[i].hi != half[i - 1].hi || half[i].lo != half[i - 1].lo) {
+      edges_.push_back({half[i].lo, half[i].hi});
+      edge_face_offsets_.push_back(static_cast<std::uint32_t>(i));
+    }
+    const auto e = static_cast<std::uint32_t>(edges_.size() - 1);
+    edge_faces_.push_back(half[i].face);
+    face_edges_[half[i].face][half[i].corner] = e;
+  }
+  edge_face_offsets_.push_back(static_cast<std::uint32_t>(half.size()));
+}
+
+std::size_t MeshTopology::num_boundary_edges() const {
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges_.size(); ++e) n += edge_face_count(e) == 1;
+  return n;
+}
+
+std::size_t MeshTopology::num_nonmanifold_edges() const {
+  std::size_t n = 0;
+  for (std::size_t e = 0; e < edges_.size(); ++e) n += edge_face_count(e) > 2;
+  return n;
+}
+
+std::int64_t MeshTopology::find_edge(std::uint32_t a, std::uint32_t b) const {
+  const Edge key{std::min(a, b), std::max(a, b)};
+  auto it = std::lower_bound(edges_.begin(), edges_.end(), key, [](const Edge& x, const Edge& y) {
+    return x[1] != y[1] ? x[1] < y[1] : x[0] < y[0];
+  });
+  if (it == edges_.end() || *it != key) return -1;
+  return it - edges_.begin();
+}
+
+}  // namespace mccd

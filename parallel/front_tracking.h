@@ -1,0 +1,52 @@
+#pragma once
+/// @file Internal: front tracking in parallel (the paper's FBD, sections 4.3-4.5, 5). The front,
+/// in BVH-node order, is cut into fixed blocks of consecutive nodes (cache-ordered: a block's
+/// nodes share BVH nodes); a parallel_for hands the blocks to idle threads as they finish
+/// (work stealing). Each block writes its own part of the next front, its own contacts (fed
+/// to the buffer as one batch) and its own counters; the parts are joined in block order, so
+/// neither the front nor the contacts depend on the thread count.
+#include <algorithm>
+#include <vector>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
+#include <mccd/core/bvtt_front.h>
+#include <mccd/parallel/contact_buffer.h>
+
+namespace mccd::detail {
+
+/// Front nodes per block: enough work to amortise a task (a block of a disjoint front costs
+/// ~40 us), small enough that sprouting blocks balance across threads.
+inline constexpr std::size_t kFrontBlock = 2048;
+
+/// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
+/// by the caller from those outputs (BvttFront::advance).
+template <class Bvtt>
+std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<WorkerOutput>& blocks,
+                        ContactBuffer& contacts) {
+  const std::vector<NodePair>& nodes = front.nodes();
+  const std::size_t n = (nodes.size() + kFrontBlock - 1) / kFrontBlock;
+  if (blocks.size() < n) blocks.resize(n);
+  auto run = [&](std::size_t b) {
+    WorkerOutput& o = blocks[b];
+    o.clear();
+    const std::size_t lo = b * kFrontBlock, hi = std::min(nodes.size(), lo + kFrontBlock);
+    bvtt.track(nodes.data() + lo, nodes.data() + hi, o);
+    flush(o, contacts);
+  };
+  if (n == 1) {
+    run(0);
+  } else if (n > 1) {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t b = r.begin(); b != r.end(); ++b) run(b);
+        },
+        tbb::simple_partitioner());
+  }
+  return n;
+}
+
+}  // namespace mccd::detail

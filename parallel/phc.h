@@ -1,0 +1,59 @@
+#pragma once
+/// @file Internal: traversal from the root, serial and in parallel. The parallel one is the
+/// paper's PHC baseline (section 3.3), also used to build the front: the top of the BVTT is
+/// visited breadth-first, serially, round by round, until at least `min_tasks` nodes wait (or
+/// none); each waiting node's subtree is then traversed depth-first as one task, the tasks in
+/// parallel. The split depends only on the geometry, never on the thread count, and every node
+/// is visited exactly as in a serial traversal: the same tests, stops and contacts. PHC redoes
+/// this from the root every step; FBD (parallel/front_tracking.h) does it once per rebuild.
+#include <vector>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <mccd/parallel/contact_buffer.h>
+
+namespace mccd::detail {
+
+/// Serial depth-first traversal from the root into `out` (the `traverse` method; with
+/// `record`, a serial front build).
+template <bool record, class Bvtt>
+void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contacts) {
+  out.clear();
+  if (bvtt.bvh().size() == 0) return;
+  out.stack.push_back({0, 0});
+  bvtt.template traverse<record>(out);
+  flush(out, contacts);
+}
+
+/// PHC: outs[0] receives the serial top's work, outs[1 + i] task i's; outs is resized to the
+/// number of tasks + 1.
+template <bool record, class Bvtt>
+void traverse_phc(const Bvtt& bvtt, std::vector<WorkerOutput>& outs, ContactBuffer& contacts,
+                  std::size_t min_tasks = 256) {
+  if (outs.empty()) outs.resize(1);
+  outs[0].clear();
+  if (bvtt.bvh().size() == 0) {
+    outs.resize(1);
+    return;
+  }
+  std::vector<NodePair> tasks{{0, 0}}, next;
+  while (!tasks.empty() && tasks.size() < min_tasks) {
+    next.clear();
+    for (const NodePair& n : tasks) bvtt.template visit<record>(n, outs[0], next);
+    tasks.swap(next);
+  }
+  flush(outs[0], contacts);
+  outs.resize(1 + tasks.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      WorkerOutput& o = outs[1 + i];
+      o.clear();
+      o.stack.push_back(tasks[i]);
+      bvtt.template traverse<record>(o);
+      flush(o, contacts);
+    }
+  });
+}
+
+}  // namespace mccd::detail
