@@ -42,6 +42,11 @@ struct SceneOptions {
   /// Where the parallel stages run; nullptr: the caller's arena. mccd never creates a
   /// global_control and never changes the arena's concurrency.
   tbb::task_arena* arena = nullptr;
+  /// Run a step's stages through its flow graph (parallel/step_graph.h; the orphan tests
+  /// beside the search), or, when false, call them one after the other on the calling thread
+  /// (each stage still parallel inside). Same results either way; false exists to measure
+  /// what the graph costs.
+  bool flow_graph = true;
 };
 
 /// Throws mccd::Error naming the option when a value is out of range (an unknown method or

@@ -50,7 +50,15 @@ StepResult Stepper<BV>::step(Method method) {
   result_.stats.method = method;
   contacts_.clear();
   orphan_out_.clear();
-  graph_->run();
+  if (options_.flow_graph) {
+    graph_->run();
+  } else {
+    update();
+    refit();
+    search();
+    orphans();
+    join();
+  }
   return std::move(result_);
 }
 

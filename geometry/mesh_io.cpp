@@ -33,5 +33,14 @@ void check_writable_indices(const std::string& path, const TriMesh& mesh) {
 }
 
 
+TriMesh make_mesh(const std::string& path, std::vector<double> xyz, std::vector<Triangle> faces) {
+  TriMesh mesh;
+  mesh.name = path;
+  mesh.vertices = Positions::from_xyz(std::move(xyz));
+  mesh.faces = std::move(faces);
+  validate_mesh(mesh);
+  return mesh;
+}
+
 }  // namespace detail
 }  // namespace mccd

@@ -89,12 +89,7 @@ TriMesh parse_obj(const std::string& path, std::string_view text) {
       if (v >= num_v)
         throw Error(at(face_line[f]) + ": vertex index " + std::to_string(std::uint64_t(v) + 1) +
                     " out of range [1, " + std::to_string(num_v) + "]");
-  TriMesh mesh;
-  mesh.name = path;
-  mesh.vertices = Positions::from_xyz(std::move(xyz));
-  mesh.faces = std::move(faces);
-  validate_mesh(mesh);
-  return mesh;
+  return make_mesh(path, std::move(xyz), std::move(faces));
 }
 
 

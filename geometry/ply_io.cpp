@@ -243,12 +243,7 @@ TriMesh parse_ply(const std::string& path, std::string_view text) {
     const bool host_big = std::endian::native == std::endian::big;
     parse_ply_binary(path, data, file_big != host_big, h, L, xyz, faces);
   }
-  TriMesh mesh;
-  mesh.name = path;
-  mesh.vertices = Positions::from_xyz(std::move(xyz));
-  mesh.faces = std::move(faces);
-  validate_mesh(mesh);
-  return mesh;
+  return make_mesh(path, std::move(xyz), std::move(faces));
 }
 
 
