@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/kdop.h>
 #include <mccd/geometry/topology.h>
@@ -22,8 +23,9 @@ namespace mccd::detail {
 template <BoundingVolume BV, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const MeshTopology& topo, const Leaf& leaf)
-      : bvh_(bvh), volumes_(volumes), topo_(topo), leaf_(leaf) {}
+  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const MeshTopology& topo, const Leaf& leaf,
+       const QueryState& query)
+      : bvh_(bvh), volumes_(volumes), topo_(topo), leaf_(leaf), query_(query) {}
 
   const BvhTopology& bvh() const { return bvh_; }
 
@@ -63,6 +65,10 @@ class Bvtt {
   void traverse(WorkerOutput& out) const {
     auto& st = out.stack;
     while (!st.empty()) {
+      if (query_.stopped()) {
+        st.clear();
+        return;
+      }
       const NodePair n = st.back();
       st.pop_back();
       visit<record>(n, out, st);
@@ -104,11 +110,28 @@ class Bvtt {
     }
   }
 
+  /// The same tests as track(), for a query: the front is read, not changed (nothing is
+  /// recorded; overlapping inner nodes are traversed below). Stops when the query stops.
+  void track_readonly(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
+    for (const NodePair* it = begin; it != end && !query_.stopped(); ++it) {
+      const NodePair n = *it;
+      ++out.stats.volume_tests;
+      if (!volumes_[n.a].overlaps(volumes_[n.b])) continue;
+      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+        leaf_.process(bvh_.triangle(n.a), bvh_.triangle(n.b), out);
+      } else {
+        push_children(n, out.stack);
+        traverse<false>(out);
+      }
+    }
+  }
+
  private:
   const BvhTopology& bvh_;
   const std::vector<BV>& volumes_;
   const MeshTopology& topo_;
   const Leaf& leaf_;
+  const QueryState& query_;
 };
 
 }  // namespace mccd::detail

@@ -6,6 +6,7 @@
 
 #include <mccd/core/bvh.h>
 #include <mccd/core/carriers.h>
+#include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/swept_volumes.h>
@@ -23,15 +24,22 @@ struct ConservativeCcd {
   }
 };
 
-/// Reads the step's positions (interleaved doubles, global vertex ids) and volumes through
-/// references owned by the stepper, so one object serves every step.
+/// Reads the step's positions (interleaved doubles, global vertex ids), volumes and query state
+/// through references owned by the stepper, so one object serves every step.
 template <BoundingVolume BV, class NarrowPhase = ConservativeCcd>
 class LeafPairs {
  public:
   LeafPairs(const MeshTopology& topo, const Carriers& carriers, const BvhTopology& bvh,
             const std::vector<BV>& node_volumes, const SweptVolumes<BV>& swept, const Positions& x0,
-            const Positions& x1, NarrowPhase narrow)
-      : topo_(topo), carriers_(carriers), bvh_(bvh), nodes_(node_volumes), swept_(swept), x0_(x0), x1_(x1),
+            const Positions& x1, QueryState& query, NarrowPhase narrow)
+      : topo_(topo),
+        carriers_(carriers),
+        bvh_(bvh),
+        nodes_(node_volumes),
+        swept_(swept),
+        x0_(x0),
+        x1_(x1),
+        query_(query),
         narrow_(narrow) {}
 
   /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).
@@ -39,7 +47,7 @@ class LeafPairs {
     ++out.stats.leaf_pairs;
     // Every feature of s and t lies in its triangle during each piece of the step: when the
     // triangles' piece volumes never meet, no feature pair below can pass its own test.
-    if (!swept_.faces_pieces_overlap(s, t)) return;
+    if (swept_.faces_quarter(s, t) < 0) return;
     const Triangle& S = topo_.faces()[s];
     const Triangle& T = topo_.faces()[t];
     for (auto v : S)
@@ -55,15 +63,17 @@ class LeafPairs {
 
   /// Vertex v against face f, behind the feature-volume tests.
   void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
+    if (query_.stopped()) return;
     ++out.stats.feature_box_tests;
     if (!swept_.vertex(v).overlaps(nodes_[bvh_.leaf_of(f)])) return;
-    if (!swept_.vertex_face_pieces_overlap(v, f)) return;
+    const int quarter = swept_.vertex_face_quarter(v, f);
+    if (quarter < 0 || !wanted(quarter, v, f, ContactKind::VertexFace, out)) return;
     ++out.stats.vf_tests;
     const Triangle& t = topo_.faces()[f];
     CcdPoints p;
     load({v, t[0], t[1], t[2]}, p);
     double toi = 0;
-    if (narrow_.vertex_face(p, toi, out.stats)) out.contacts.push_back({v, f, ContactKind::VertexFace, toi});
+    if (narrow_.vertex_face(p, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
   }
 
   /// Edges a and b (sharing no vertex), behind the feature-volume tests.
@@ -73,15 +83,38 @@ class LeafPairs {
     if (!swept_.edge(a).overlaps(swept_.edge(b))) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
-    if (!swept_.edges_pieces_overlap(ea, eb)) return;
+    const int quarter = swept_.edges_quarter(ea, eb);
+    if (quarter < 0 || !wanted(quarter, a, b, ContactKind::EdgeEdge, out)) return;
     ++out.stats.ee_tests;
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);
     double toi = 0;
-    if (narrow_.edge_edge(p, toi, out.stats)) out.contacts.push_back({a, b, ContactKind::EdgeEdge, toi});
+    if (narrow_.edge_edge(p, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
   }
 
  private:
+  /// Whether a pair that passed its volume tests goes to the narrow phase. Earliest queries
+  /// skip pairs that cannot meet before the best time found so far; candidate queries collect
+  /// the pair instead, with the start of its first meeting quarter as the time.
+  bool wanted(int quarter, std::uint32_t a, std::uint32_t b, ContactKind kind, WorkerOutput& out) const {
+    switch (query_.kind()) {
+      case StepKind::Full:
+      case StepKind::FirstContact:
+        return true;
+      case StepKind::Earliest:
+        return 0.25 * quarter < query_.best();
+      case StepKind::Candidates:
+        out.contacts.push_back({a, b, kind, 0.25 * quarter});
+        return false;
+    }
+    return true;
+  }
+
+  void hit(const RawContact& c, WorkerOutput& out) const {
+    out.contacts.push_back(c);
+    if (query_.kind() != StepKind::Full) query_.found(c.toi);
+  }
+
   void load(const std::array<std::uint32_t, 4>& ids, CcdPoints& p) const {
     for (int k = 0; k < 4; ++k) {
       p.start[k] = x0_.point(ids[k]);
@@ -96,6 +129,7 @@ class LeafPairs {
   const SweptVolumes<BV>& swept_;
   const Positions& x0_;
   const Positions& x1_;
+  QueryState& query_;
   NarrowPhase narrow_;
 };
 

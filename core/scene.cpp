@@ -40,6 +40,7 @@ struct Scene::Impl {
   std::unique_ptr<detail::Stepper<Kdop18>> dop;
   std::unique_ptr<detail::Stepper<Aabb>> aabb;
   std::atomic<bool> busy{false};
+  Positions last_end;  ///< the end positions of the last step (initially the meshes'), for advance()
 
   Impl(std::vector<TriMesh> ms, SceneOptions opt) : options(opt), meshes(std::move(ms)) {
     validate(options);
@@ -48,15 +49,18 @@ struct Scene::Impl {
       validate_mesh(meshes[m]);
     }
     topo = std::make_unique<detail::SceneTopology>(meshes);
-    Positions initial(topo->topology().num_vertices());
+    last_end.resize(topo->topology().num_vertices());
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),
-                initial.xyz().begin() + static_cast<std::ptrdiff_t>(3 * topo->vertex_offset(m)));
+                last_end.xyz().begin() + static_cast<std::ptrdiff_t>(3 * topo->vertex_offset(m)));
     if (options.volume == VolumeKind::Kdop18)
-      dop = std::make_unique<detail::Stepper<Kdop18>>(*topo, options, initial);
+      dop = std::make_unique<detail::Stepper<Kdop18>>(*topo, options, last_end);
     else
-      aabb = std::make_unique<detail::Stepper<Aabb>>(*topo, options, initial);
+      aabb = std::make_unique<detail::Stepper<Aabb>>(*topo, options, last_end);
   }
+
+  StepResult query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                   detail::StepKind kind, StepStats* stats);
 
   Positions& start() { return dop ? dop->start() : aabb->start(); }
   Positions& end() { return dop ? dop->end() : aabb->end(); }
@@ -92,11 +96,11 @@ struct Scene::Impl {
     }
   }
 
-  StepResult run(Method method, Clock::time_point t0) {
+  StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full) {
     auto body = [&] {
       // Isolated: while this thread waits inside the step, it takes only the step's own tasks,
       // never an outer task of the host that might step this scene again.
-      return tbb::this_task_arena::isolate([&] { return dop ? dop->step(method) : aabb->step(method); });
+      return tbb::this_task_arena::isolate([&] { return dop ? dop->step(method, kind) : aabb->step(method, kind); });
     };
     StepResult r;
     try {
@@ -127,7 +131,9 @@ StepResult Scene::step(const std::vector<PositionsView>& start, const std::vecto
   impl_->check(end, "step end");
   impl_->load(start, impl_->start());
   impl_->load(end, impl_->end());
-  return impl_->run(m, t0);
+  StepResult r = impl_->run(m, t0);
+  std::swap(impl_->last_end.xyz(), impl_->end().xyz());  // end() is reloaded by every step
+  return r;
 }
 
 StepResult Scene::advance(const std::vector<PositionsView>& next, std::optional<Method> method) {
@@ -135,9 +141,45 @@ StepResult Scene::advance(const std::vector<PositionsView>& next, std::optional<
   StepGuard guard(impl_->busy);
   const Method m = Impl::checked(method, impl_->options.method);
   impl_->check(next, "advance");
-  std::swap(impl_->start().xyz(), impl_->end().xyz());
   impl_->load(next, impl_->end());
-  return impl_->run(m, t0);
+  std::swap(impl_->last_end.xyz(), impl_->start().xyz());
+  StepResult r;
+  try {
+    r = impl_->run(m, t0);
+  } catch (...) {
+    std::swap(impl_->last_end.xyz(), impl_->start().xyz());  // the last end stays the last end
+    throw;
+  }
+  std::swap(impl_->last_end.xyz(), impl_->end().xyz());
+  return r;
+}
+
+StepResult Scene::Impl::query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                              detail::StepKind kind, StepStats* stats) {
+  const auto t0 = Clock::now();
+  StepGuard guard(busy);
+  check(start, "query start");
+  check(end, "query end");
+  load(start, this->start());
+  load(end, this->end());
+  StepResult r = run(options.method, t0, kind);
+  if (stats) *stats = r.stats;
+  return r;
+}
+
+bool Scene::is_collision_free(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                              StepStats* stats) {
+  return impl_->query(start, end, detail::StepKind::FirstContact, stats).contacts.empty();
+}
+
+double Scene::earliest_impact(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                              StepStats* stats) {
+  return impl_->query(start, end, detail::StepKind::Earliest, stats).earliest_toi;
+}
+
+std::vector<Contact> Scene::candidates(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                                       StepStats* stats) {
+  return impl_->query(start, end, detail::StepKind::Candidates, stats).contacts;
 }
 
 std::size_t Scene::num_meshes() const { return impl_->meshes.size(); }

@@ -51,6 +51,36 @@ class Scene {
     return advance(std::vector<PositionsView>{next}, method);
   }
 
+  /// Simulator queries on the step from `start` to `end` (IPC Toolkit users know them as
+  /// is_step_collision_free and compute_collision_free_stepsize). Each leaves the scene as it
+  /// was: the last end positions used by advance() and the front are unchanged (the front is
+  /// read, when it exists, to find the candidates faster). Input is checked as by step().
+  /// `stats`, when given, receives what the query did.
+  ///
+  /// Whether no feature pair touches during the step. Stops at the first certified contact:
+  /// no contact list, no sort; much cheaper than step() when a contact exists early.
+  bool is_collision_free(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                         StepStats* stats = nullptr);
+  /// The earliest conservative time of impact in [0, 1] (+inf when collision free), equal to
+  /// step(start, end).earliest_toi; pairs that cannot beat the best time found so far are
+  /// skipped before their elementary test.
+  double earliest_impact(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                         StepStats* stats = nullptr);
+  /// The broad-phase candidates, for hosts with their own narrow phase: every feature pair the
+  /// elementary tests would see (each once, behind the same volume tests), untested. `toi` of
+  /// each is a lower bound of any contact time: the start of the first quarter of the step in
+  /// which the pair's swept volumes overlap (0, 0.25, 0.5 or 0.75). Canonical order.
+  std::vector<Contact> candidates(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                                  StepStats* stats = nullptr);
+
+  /// Single-mesh conveniences.
+  bool is_collision_free(const PositionsView& start, const PositionsView& end, StepStats* stats = nullptr) {
+    return is_collision_free(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, stats);
+  }
+  double earliest_impact(const PositionsView& start, const PositionsView& end, StepStats* stats = nullptr) {
+    return earliest_impact(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, stats);
+  }
+
   std::size_t num_meshes() const;
   const TriMesh& mesh(std::size_t i) const;       ///< with its initial positions
   const MeshTopology& topology() const;           ///< of all meshes, global ids

@@ -34,9 +34,9 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       bvh_(centroids(scene.topology(), initial)),
       refit_plan_(bvh_),
       nodes_(bvh_.size()),
-      leaf_(scene.topology(), scene.carriers(), bvh_, nodes_, swept_, x0_, x1_,
+      leaf_(scene.topology(), scene.carriers(), bvh_, nodes_, swept_, x0_, x1_, query_,
             ConservativeCcd{CcdOptions{options.min_distance}}),
-      bvtt_(bvh_, nodes_, scene.topology(), leaf_) {
+      bvtt_(bvh_, nodes_, scene.topology(), leaf_, query_) {
   swept_.resize(scene.topology());
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { orphans(); },
@@ -44,8 +44,9 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
 }
 
 template <BoundingVolume BV>
-StepResult Stepper<BV>::step(Method method) {
+StepResult Stepper<BV>::step(Method method, StepKind kind) {
   method_ = method;
+  query_.reset(kind);
   result_ = StepResult{};
   result_.stats.method = method;
   contacts_.clear();
@@ -97,7 +98,10 @@ void Stepper<BV>::search() {
       add_stats(units_, units_.size(), st);
       break;
     case Method::Fbd:
-      search_fbd();
+      if (query_.kind() == StepKind::Full)
+        search_fbd();
+      else
+        search_fbd_query();
       break;
   }
   st.t_front = seconds_since(t);
@@ -119,6 +123,18 @@ void Stepper<BV>::search_fbd() {
   st.front_size = front_.size();
   st.front_bytes = front_.bytes();
   for (const WorkerOutput& o : units_) st.front_bytes += o.front.capacity() * sizeof(NodePair);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::search_fbd_query() {
+  StepStats& st = result_.stats;
+  if (front_.needs_build()) {
+    traverse_phc<false>(bvtt_, units_, contacts_);
+    add_stats(units_, units_.size(), st);
+  } else {
+    const std::size_t n = track_front(bvtt_, front_, units_, contacts_, /*readonly=*/true);
+    add_stats(units_, n, st);
+  }
 }
 
 template <BoundingVolume BV>

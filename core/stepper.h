@@ -23,6 +23,7 @@
 #include <mccd/core/bvtt_front.h>
 #include <mccd/core/leaf_pairs.h>
 #include <mccd/core/options.h>
+#include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/refit.h>
@@ -41,8 +42,9 @@ class Stepper {
   Positions& end() { return x1_; }
   const Positions& end() const { return x1_; }
 
-  /// Runs one step from start() to end() with `method` in the calling thread's arena.
-  StepResult step(Method method);
+  /// Runs one step from start() to end() with `method` in the calling thread's arena. A query
+  /// (`kind` other than Full) reads the front but never changes it.
+  StepResult step(Method method, StepKind kind = StepKind::Full);
 
   std::size_t bvh_depth() const { return bvh_.depth(); }
   std::size_t bvh_size() const { return bvh_.size(); }
@@ -59,6 +61,7 @@ class Stepper {
   void orphans();
   void join();
   void search_fbd();
+  void search_fbd_query();
 
   const SceneTopology& scene_;
   SceneOptions options_;
@@ -67,6 +70,7 @@ class Stepper {
   RefitPlan refit_plan_;
   std::vector<BV> nodes_;  ///< one volume per BVH node
   SweptVolumes<BV> swept_;
+  QueryState query_;
   Leaf leaf_;
   Bvtt<BV, Leaf> bvtt_;
   BvttFront front_;

@@ -7,7 +7,8 @@
 /// swept triangle; an edge's likewise. Time pieces: the halves [0, 1/2], [1/2, 1] (pieces 0, 1)
 /// and the quarters [k/4, (k+1)/4] (pieces 2..5). A contact at time t lies in both features'
 /// volumes of every piece holding t, so two features can only meet when, for some half h, the
-/// half volumes overlap and one of that half's two quarter volumes overlap (pieces_overlap).
+/// half volumes overlap and one of that half's two quarter volumes overlap
+/// (first_meeting_quarter).
 ///
 /// Consistency invariant that makes every method return identical contacts: every feature
 /// pair reaches the elementary test only after the overlap of its *feature volumes* (merges
@@ -30,13 +31,17 @@ namespace mccd::detail {
 template <BoundingVolume BV>
 using PieceVolumes = std::array<BV, 6>;
 
-/// Whether two features may meet at a common time (see the file comment), given
-/// `overlap(k)`: whether their volumes of piece k overlap (evaluated lazily, halves first).
+/// The first quarter q of the step (0..3) in which two features may meet (see the file
+/// comment), or -1 when they cannot meet at all, given `overlap(k)`: whether their volumes of
+/// piece k overlap (evaluated lazily, halves first). Any contact happens at t >= q / 4.
 template <class Overlap>
-inline bool pieces_overlap(const Overlap& overlap) {
+inline int first_meeting_quarter(const Overlap& overlap) {
   for (int h = 0; h < 2; ++h)
-    if (overlap(h) && (overlap(2 + 2 * h) || overlap(3 + 2 * h))) return true;
-  return false;
+    if (overlap(h)) {
+      if (overlap(2 + 2 * h)) return 2 * h;
+      if (overlap(3 + 2 * h)) return 2 * h + 1;
+    }
+  return -1;
 }
 
 template <BoundingVolume BV>
@@ -112,20 +117,21 @@ class SweptVolumes {
     return d;
   }
 
-  /// Piece tests (see the file comment): only after the whole-step volumes overlap.
-  bool vertex_face_pieces_overlap(std::uint32_t v, std::uint32_t f) const {
+  /// Piece tests (see the file comment), only after the whole-step volumes overlap: the first
+  /// quarter in which the two may meet, -1 when never.
+  int vertex_face_quarter(std::uint32_t v, std::uint32_t f) const {
     const auto &a = vertex_pieces_[v], &b = face_pieces_[f];
-    return pieces_overlap([&](int k) { return a[k].overlaps(b[k]); });
+    return first_meeting_quarter([&](int k) { return a[k].overlaps(b[k]); });
   }
-  bool faces_pieces_overlap(std::uint32_t s, std::uint32_t t) const {
+  int faces_quarter(std::uint32_t s, std::uint32_t t) const {
     const auto &a = face_pieces_[s], &b = face_pieces_[t];
-    return pieces_overlap([&](int k) { return a[k].overlaps(b[k]); });
+    return first_meeting_quarter([&](int k) { return a[k].overlaps(b[k]); });
   }
   /// Edge pieces are merged on demand, only for the pieces consulted.
-  bool edges_pieces_overlap(const Edge& ea, const Edge& eb) const {
+  int edges_quarter(const Edge& ea, const Edge& eb) const {
     const auto &a0 = vertex_pieces_[ea[0]], &a1 = vertex_pieces_[ea[1]];
     const auto &b0 = vertex_pieces_[eb[0]], &b1 = vertex_pieces_[eb[1]];
-    return pieces_overlap([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
+    return first_meeting_quarter([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
   }
 
  private:

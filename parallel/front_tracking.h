@@ -22,10 +22,11 @@ namespace mccd::detail {
 inline constexpr std::size_t kFrontBlock = 2048;
 
 /// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
-/// by the caller from those outputs (BvttFront::advance).
+/// by the caller from those outputs (BvttFront::advance). `readonly` (the simulator queries):
+/// the same tests without recording a next front (Bvtt::track_readonly).
 template <class Bvtt>
 std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<WorkerOutput>& blocks,
-                        ContactBuffer& contacts) {
+                        ContactBuffer& contacts, bool readonly = false) {
   const std::vector<NodePair>& nodes = front.nodes();
   const std::size_t n = (nodes.size() + kFrontBlock - 1) / kFrontBlock;
   if (blocks.size() < n) blocks.resize(n);
@@ -33,7 +34,10 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<Wo
     WorkerOutput& o = blocks[b];
     o.clear();
     const std::size_t lo = b * kFrontBlock, hi = std::min(nodes.size(), lo + kFrontBlock);
-    bvtt.track(nodes.data() + lo, nodes.data() + hi, o);
+    if (readonly)
+      bvtt.track_readonly(nodes.data() + lo, nodes.data() + hi, o);
+    else
+      bvtt.track(nodes.data() + lo, nodes.data() + hi, o);
     flush(o, contacts);
   };
   if (n == 1) {

@@ -1,10 +1,16 @@
-// Built against the installed package: only the public headers, as the README shows.
+// Built against the installed package: only the public headers, beside the host's own
+// core/contact.h and geometry/mesh.h (host_include/, first on the include path).
+#include "core/contact.h"     // the host's
+#include "geometry/mesh.h"    // the host's
+
 #include <mccd/core/scene.h>
 #include <mccd/geometry/topology.h>
 
 #include <cstdio>
 
 int main() {
+  const host::Contact hc;
+  const host::Mesh hm;
   // a 2 x 2 grid of quads in z = 0 (9 vertices, 8 triangles, 16 edges)
   mccd::TriMesh grid;
   for (int j = 0; j < 3; ++j)
@@ -25,7 +31,7 @@ int main() {
   mccd::Positions next = drop.vertices;
   next.mat().col(2).array() -= 0.8;  // corner 0 crosses z = 0 at t = 0.625
   mccd::StepResult r = scene.advance(std::vector<mccd::PositionsView>{grid.vertices, next});
-  std::printf("faces %zu edges %zu contacts %zu earliest %.3f\n", topo.num_faces(), topo.num_edges(),
-              r.contacts.size(), r.earliest_toi);
+  std::printf("faces %zu edges %zu contacts %zu earliest %.3f host %d %d\n", topo.num_faces(), topo.num_edges(),
+              r.contacts.size(), r.earliest_toi, hc.id, hm.triangles);
   return topo.num_faces() == 8 && topo.num_edges() == 16 && r.contacts.size() == 1 ? 0 : 1;
 }

@@ -1,12 +1,30 @@
-# Installs the build tree into a scratch prefix, builds the consumer against it, runs it.
+# Installs the build tree into a scratch prefix, builds the consumer and the README's library
+# example against it with CONSUMER_FLAGS (e.g. -march=native, or sanitizers), runs both.
+#   -DMCCD_BUILD_DIR= -DCONSUMER_SOURCE= -DWORK_DIR= -DREADME= [-DCONSUMER_FLAGS=]
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${MCCD_BUILD_DIR} --prefix ${WORK_DIR}/prefix
-  RESULT_VARIABLE rc)
+  RESULT_VARIABLE rc OUTPUT_QUIET)
 if(rc)
   message(FATAL_ERROR "cmake --install failed: ${rc}")
 endif()
+# Internal headers must not be installed.
+foreach(internal core/stepper.h core/bvh.h geometry/kdop.h geometry/ccd_search.h parallel/phc.h)
+  if(EXISTS ${WORK_DIR}/prefix/include/mccd/${internal})
+    message(FATAL_ERROR "internal header installed: ${internal}")
+  endif()
+endforeach()
+
+# The README's example: the C++ block between <!-- example:begin --> and <!-- example:end -->.
+file(READ ${README} readme)
+string(REGEX MATCH "<!-- example:begin -->[^`]*```cpp\n(.*)```[^`]*<!-- example:end -->" found "${readme}")
+if(NOT found)
+  message(FATAL_ERROR "no example block in ${README}")
+endif()
+file(WRITE ${WORK_DIR}/readme_example.cpp "${CMAKE_MATCH_1}")
+
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build
-  -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release RESULT_VARIABLE rc)
+  -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}"
+  -DREADME_EXAMPLE=${WORK_DIR}/readme_example.cpp RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "configuring the consumer failed: ${rc}")
 endif()
@@ -14,11 +32,14 @@ execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIAB
 if(rc)
   message(FATAL_ERROR "building the consumer failed: ${rc}")
 endif()
-execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc OUTPUT_VARIABLE out)
-message(STATUS "consumer said: ${out}")
-if(rc)
-  message(FATAL_ERROR "the consumer failed: ${rc}")
-endif()
-if(NOT out MATCHES "faces 8 edges 16 contacts 1 earliest 0.625")
+foreach(program consumer readme_example)
+  execute_process(COMMAND ${WORK_DIR}/build/${program} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${program} said: ${out}${err}")
+  if(rc)
+    message(FATAL_ERROR "${program} failed: ${rc}")
+  endif()
+endforeach()
+execute_process(COMMAND ${WORK_DIR}/build/consumer OUTPUT_VARIABLE out)
+if(NOT out MATCHES "faces 8 edges 16 contacts 1 earliest 0.625 host 7 3")
   message(FATAL_ERROR "unexpected consumer output")
 endif()
