@@ -28,7 +28,7 @@ void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::ve
   std::vector<std::pair<double, std::uint32_t>> faces(topo.num_faces());
   double max_face_extent = 0;  // the widest face along the sweep axis
   for (std::uint32_t f = 0; f < faces.size(); ++f) {
-    const BV& vf = nodes[bvh.leaf_of(f)];
+    const BV& vf = swept.face(f);
     faces[f] = {vf.lo[ax], f};
     max_face_extent = std::max(max_face_extent, double(vf.hi[ax]) - double(vf.lo[ax]));
   }
@@ -45,7 +45,7 @@ void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::ve
       const Triangle& t = topo.faces()[f];
       if (t[0] == v || t[1] == v || t[2] == v) continue;
       ++out.stats.volume_tests;
-      if (!vv.overlaps(nodes[bvh.leaf_of(f)])) continue;
+      if (!vv.overlaps(swept.face(f))) continue;
       leaf_pairs.test_vf(v, f, out);
     }
   }

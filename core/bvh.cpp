@@ -1,63 +1,167 @@
 #include <mccd/core/bvh.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numeric>
 
 namespace mccd {
 
 namespace {
-struct Builder {
-  const std::vector<Vec3>& c;
-  std::vector<std::uint32_t> order;
-  std::vector<BvhNode>& nodes;
-  std::vector<std::uint32_t>& leaf_of;
-  std::uint32_t depth = 0;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Box {
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  void grow(const Box& b) {
+    lo = lo.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  double half_area() const {
+    if (!(hi.x() >= lo.x())) return 0;
+    const Vec3 d = hi - lo;
+    return d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
+  }
+};
+
+class Builder {
+ public:
+  Builder(const std::vector<TriangleBounds>& tris, BvhBuild kind, unsigned max_leaf, std::vector<BvhNode>& nodes,
+          std::vector<std::uint32_t>& order)
+      : tris_(tris), kind_(kind), max_leaf_(max_leaf), order_(order), nodes_(nodes) {
+    order_.resize(tris.size());
+    std::iota(order_.begin(), order_.end(), 0u);
+  }
+  std::uint32_t depth() const { return depth_; }
 
   // Builds the subtree over order[lo, hi) at node index nodes.size(); returns its index.
   std::uint32_t build(std::size_t lo, std::size_t hi, std::uint32_t level) {
-    const auto index = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back({0, 0});
-    depth = std::max(depth, level);
-    if (hi - lo == 1) {
-      nodes[index] = {index + 1, order[lo]};
-      leaf_of[order[lo]] = index;
+    const auto index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.push_back({0, 0});
+    depth_ = std::max(depth_, level);
+    if (hi - lo <= max_leaf_) {
+      nodes_[index] = {index + 1, static_cast<std::uint32_t>(lo << 2 | (hi - lo - 1))};
       return index;
     }
-    Vec3 mn = Vec3::Constant(std::numeric_limits<double>::infinity()), mx = -mn;
+    const std::size_t m = kind_ == BvhBuild::Median ? split_median(lo, hi) : split_sah(lo, hi);
+    build(lo, m, level + 1);
+    const std::uint32_t r = build(m, hi, level + 1);
+    nodes_[index] = {static_cast<std::uint32_t>(nodes_.size()), r};
+    return index;
+  }
+
+ private:
+  const Vec3& c(std::uint32_t t) const { return tris_[t].centroid; }
+
+  void centroid_bounds(std::size_t lo, std::size_t hi, Vec3& mn, Vec3& mx) const {
+    mn = Vec3::Constant(kInf), mx = -mn;
     for (std::size_t i = lo; i < hi; ++i) {
-      mn = mn.cwiseMin(c[order[i]]);
-      mx = mx.cwiseMax(c[order[i]]);
+      mn = mn.cwiseMin(c(order_[i]));
+      mx = mx.cwiseMax(c(order_[i]));
     }
+  }
+
+  /// Half by count along `axis` (ties by id, so the result is deterministic).
+  std::size_t split_count(std::size_t lo, std::size_t hi, int axis) {
+    const std::size_t m = lo + (hi - lo) / 2;
+    std::nth_element(order_.begin() + std::ptrdiff_t(lo), order_.begin() + std::ptrdiff_t(m),
+                     order_.begin() + std::ptrdiff_t(hi), [&](std::uint32_t a, std::uint32_t b) {
+                       return c(a)[axis] != c(b)[axis] ? c(a)[axis] < c(b)[axis] : a < b;
+                     });
+    return m;
+  }
+
+  /// The paper's rule: the longest axis of the centroid bounds at its midpoint.
+  std::size_t split_median(std::size_t lo, std::size_t hi) {
+    Vec3 mn, mx;
+    centroid_bounds(lo, hi, mn, mx);
     int axis = 0;
     (mx - mn).maxCoeff(&axis);
     const double mid = 0.5 * (mn[axis] + mx[axis]);
-    auto first = order.begin() + static_cast<std::ptrdiff_t>(lo), last = order.begin() + static_cast<std::ptrdiff_t>(hi);
-    auto split = std::stable_partition(first, last, [&](std::uint32_t t) { return c[t][axis] < mid; });
-    std::size_t m = static_cast<std::size_t>(split - order.begin());
-    if (m == lo || m == hi) {  // all centroids on one side: median by count
-      m = lo + (hi - lo) / 2;
-      std::nth_element(first, order.begin() + static_cast<std::ptrdiff_t>(m), last, [&](std::uint32_t a, std::uint32_t b) {
-        return c[a][axis] != c[b][axis] ? c[a][axis] < c[b][axis] : a < b;
-      });
-    }
-    build(lo, m, level + 1);
-    const std::uint32_t r = build(m, hi, level + 1);
-    nodes[index] = {static_cast<std::uint32_t>(nodes.size()), r};
-    return index;
+    auto split = std::stable_partition(order_.begin() + std::ptrdiff_t(lo), order_.begin() + std::ptrdiff_t(hi),
+                                       [&](std::uint32_t t) { return c(t)[axis] < mid; });
+    const auto m = static_cast<std::size_t>(split - order_.begin());
+    return (m == lo || m == hi) ? split_count(lo, hi, axis) : m;  // all on one side: by count
   }
+
+  /// Binned surface area heuristic over the triangles' boxes: for each axis, 32 bins of the
+  /// centroid bounds; the split minimising area(left) * n(left) + area(right) * n(right).
+  std::size_t split_sah(std::size_t lo, std::size_t hi) {
+    constexpr int kBins = 32;
+    Vec3 mn, mx;
+    centroid_bounds(lo, hi, mn, mx);
+    double best = kInf;
+    int best_axis = -1, best_bin = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double ext = mx[axis] - mn[axis];
+      if (!(ext > 0)) continue;
+      std::array<Box, kBins> bins;
+      std::array<std::size_t, kBins> count{};
+      const double scale = kBins / ext;
+      for (std::size_t i = lo; i < hi; ++i) {
+        const TriangleBounds& t = tris_[order_[i]];
+        const int b = std::min(kBins - 1, static_cast<int>((t.centroid[axis] - mn[axis]) * scale));
+        bins[b].grow(Box{t.lo, t.hi});
+        ++count[b];
+      }
+      std::array<double, kBins> right_cost{};
+      Box acc;
+      std::size_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.grow(bins[b]);
+        n += count[b];
+        right_cost[b] = acc.half_area() * double(n);
+      }
+      acc = Box{};
+      n = 0;
+      for (int b = 0; b + 1 < kBins; ++b) {
+        acc.grow(bins[b]);
+        n += count[b];
+        const double cost = acc.half_area() * double(n) + right_cost[b + 1];
+        if (n > 0 && n < hi - lo && cost < best) best = cost, best_axis = axis, best_bin = b;
+      }
+    }
+    if (best_axis < 0) {  // every centroid in one bin: by count along the widest axis
+      int axis = 0;
+      (mx - mn).maxCoeff(&axis);
+      return split_count(lo, hi, axis);
+    }
+    const double scale = kBins / (mx[best_axis] - mn[best_axis]);
+    auto split = std::stable_partition(order_.begin() + std::ptrdiff_t(lo), order_.begin() + std::ptrdiff_t(hi),
+                                       [&](std::uint32_t t) {
+                                         const int b = std::min(kBins - 1, static_cast<int>((c(t)[best_axis] - mn[best_axis]) * scale));
+                                         return b <= best_bin;
+                                       });
+    return static_cast<std::size_t>(split - order_.begin());
+  }
+
+  const std::vector<TriangleBounds>& tris_;
+  BvhBuild kind_;
+  std::size_t max_leaf_;
+  std::vector<std::uint32_t>& order_;
+  std::vector<BvhNode>& nodes_;
+  std::uint32_t depth_ = 0;
 };
+
 }  // namespace
 
-BvhTopology::BvhTopology(const std::vector<Vec3>& centroids) {
-  const std::size_t n = centroids.size();
+std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x) {
+  std::vector<TriangleBounds> out(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const Vec3 a = x.point(faces[f][0]), b = x.point(faces[f][1]), c = x.point(faces[f][2]);
+    out[f] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), (a + b + c) / 3.0};
+  }
+  return out;
+}
+
+BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf)
+    : max_leaf_(std::clamp(max_leaf, 1u, kMaxLeaf)) {
+  const std::size_t n = triangles.size();
   if (n == 0) return;
   nodes_.reserve(2 * n - 1);
-  leaf_of_.assign(n, 0);
-  Builder b{centroids, std::vector<std::uint32_t>(n), nodes_, leaf_of_};
-  std::iota(b.order.begin(), b.order.end(), 0u);
+  Builder b(triangles, kind, max_leaf_, nodes_, order_);
   b.build(0, n, 0);
-  depth_ = b.depth;
+  depth_ = b.depth();
 }
 
 }  // namespace mccd

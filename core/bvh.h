@@ -9,55 +9,74 @@
 #include <cstdint>
 #include <vector>
 
+#include <mccd/core/options.h>
 #include <mccd/geometry/mesh.h>
 
 namespace mccd {
 
+/// What the builder needs of a triangle: its box and its centroid.
+struct TriangleBounds {
+  Vec3 lo, hi, centroid;
+};
+std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x);
+
 struct BvhNode {
-  std::uint32_t end;           ///< 4 bytes: one past the last node of this subtree
-  std::uint32_t right_or_tri;  ///< 4 bytes: right child (inner) or triangle id (leaf)
+  std::uint32_t end;            ///< 4 bytes: one past the last node of this subtree
+  std::uint32_t right_or_leaf;  ///< 4 bytes: right child (inner), or (first << 2 | count - 1) (leaf)
 };
 static_assert(sizeof(BvhNode) == 8, "BvhNode: two 32-bit fields");
 
-/// The shape of the hierarchy; volumes live beside it (see Bvh below).
+/// The shape of the hierarchy; volumes live beside it, one per node (structure of arrays).
+/// A leaf holds 1 to 4 triangles, consecutive in triangle_order().
 class BvhTopology {
  public:
+  static constexpr unsigned kMaxLeaf = 4;
+
   BvhTopology() = default;
-  /// Builds over triangles with the given centroids: split the longest axis of the centroid
-  /// bounds at its midpoint (spatial median); when every centroid falls on one side, split
-  /// the index range in half instead. One triangle per leaf.
-  explicit BvhTopology(const std::vector<Vec3>& centroids);
+  /// Builds top-down over the triangles. Median (the paper's): split the longest axis of the
+  /// centroid bounds at its midpoint. Sah: the binned surface area heuristic over the
+  /// triangles' boxes. When every centroid falls on one side, the range is split in half by
+  /// count. A range of at most `max_leaf` (1..4) triangles becomes a leaf.
+  BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf = 1);
 
   std::size_t size() const { return nodes_.size(); }
   bool leaf(std::uint32_t i) const { return nodes_[i].end == i + 1; }
   std::uint32_t left(std::uint32_t i) const { return i + 1; }
-  std::uint32_t right(std::uint32_t i) const { return nodes_[i].right_or_tri; }
-  std::uint32_t triangle(std::uint32_t i) const { return nodes_[i].right_or_tri; }
-  /// Number of nodes in the subtree of i (2 * leaves - 1).
+  std::uint32_t right(std::uint32_t i) const { return nodes_[i].right_or_leaf; }
+  /// The triangles of leaf i: leaf_count(i) ids from leaf_triangles(i).
+  const std::uint32_t* leaf_triangles(std::uint32_t i) const { return order_.data() + (nodes_[i].right_or_leaf >> 2); }
+  std::uint32_t leaf_count(std::uint32_t i) const { return (nodes_[i].right_or_leaf & 3u) + 1; }
+  /// Number of nodes in the subtree of i.
   std::uint32_t subtree_size(std::uint32_t i) const { return nodes_[i].end - i; }
-  /// The leaf node holding triangle t.
-  std::uint32_t leaf_of(std::uint32_t t) const { return leaf_of_[t]; }
   const std::vector<BvhNode>& nodes() const { return nodes_; }
+  /// Every triangle once, in leaf order.
+  const std::vector<std::uint32_t>& triangle_order() const { return order_; }
   /// Depth of the deepest leaf (the root has depth 0).
   std::uint32_t depth() const { return depth_; }
+  unsigned max_leaf() const { return max_leaf_; }
 
  private:
   std::vector<BvhNode> nodes_;
-  std::vector<std::uint32_t> leaf_of_;
+  std::vector<std::uint32_t> order_;
   std::uint32_t depth_ = 0;
+  unsigned max_leaf_ = 1;
 };
 
-/// Bottom-up refit of `volumes` (one per node) from `leaf_volume(triangle)`, serially over
-/// the node range [begin, end) of one subtree, deepest nodes first. Children are always
-/// after their parent in the array, so a reverse sweep sees children before parents.
-template <class BV, class LeafVolume>
+/// Bottom-up refit of `volumes` (one per node) from `triangle_volume(t)`, serially over the
+/// node range [begin, end) of one subtree, deepest nodes first. Children are always after
+/// their parent in the array, so a reverse sweep sees children before parents.
+template <class BV, class TriangleVolume>
 void refit_range(const BvhTopology& bvh, std::vector<BV>& volumes, std::uint32_t begin, std::uint32_t end,
-                 const LeafVolume& leaf_volume) {
+                 const TriangleVolume& triangle_volume) {
   for (std::uint32_t i = end; i-- > begin;) {
-    if (bvh.leaf(i))
-      volumes[i] = leaf_volume(bvh.triangle(i));
-    else
+    if (bvh.leaf(i)) {
+      const std::uint32_t* t = bvh.leaf_triangles(i);
+      BV v = triangle_volume(t[0]);
+      for (std::uint32_t k = 1; k < bvh.leaf_count(i); ++k) v.merge(triangle_volume(t[k]));
+      volumes[i] = v;
+    } else {
       volumes[i] = BV::merged(volumes[bvh.left(i)], volumes[bvh.right(i)]);
+    }
   }
 }
 

@@ -34,7 +34,7 @@ class Bvtt {
   template <bool record>
   void visit(const NodePair n, WorkerOutput& out, std::vector<NodePair>& next) const {
     if (n.a == n.b) {
-      if (bvh_.leaf(n.a)) return;
+      if (bvh_.leaf(n.a)) return;  // pairs inside one leaf: Stepper's leaf-internal list
       const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
       next.push_back({l, r});
       next.push_back({r, r});
@@ -42,14 +42,14 @@ class Bvtt {
       return;
     }
     if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-      const std::uint32_t s = bvh_.triangle(n.a), t = bvh_.triangle(n.b);
-      if (topo_.adjacent(s, t)) {
+      if (leaf_.all_adjacent(bvh_.leaf_triangles(n.a), bvh_.leaf_count(n.a), bvh_.leaf_triangles(n.b),
+                             bvh_.leaf_count(n.b))) {
         ++out.stats.adjacent_leaf_pairs;
         return;
       }
       if constexpr (record) out.front.push_back(n);
       ++out.stats.volume_tests;
-      if (volumes_[n.a].overlaps(volumes_[n.b])) leaf_.process(s, t, out);
+      if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaves(n, out);
       return;
     }
     ++out.stats.volume_tests;
@@ -96,7 +96,7 @@ class Bvtt {
       ++out.stats.volume_tests;
       const bool ov = volumes_[n.a].overlaps(volumes_[n.b]);
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        if (ov) leaf_.process(bvh_.triangle(n.a), bvh_.triangle(n.b), out);
+        if (ov) process_leaves(n, out);
         out.front.push_back(n);
       } else if (!ov) {
         out.front.push_back(n);
@@ -118,7 +118,7 @@ class Bvtt {
       ++out.stats.volume_tests;
       if (!volumes_[n.a].overlaps(volumes_[n.b])) continue;
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        leaf_.process(bvh_.triangle(n.a), bvh_.triangle(n.b), out);
+        process_leaves(n, out);
       } else {
         push_children(n, out.stack);
         traverse<false>(out);
@@ -127,6 +127,11 @@ class Bvtt {
   }
 
  private:
+  void process_leaves(const NodePair& n, WorkerOutput& out) const {
+    leaf_.process_leaves(bvh_.leaf_triangles(n.a), bvh_.leaf_count(n.a), bvh_.leaf_triangles(n.b),
+                         bvh_.leaf_count(n.b), out);
+  }
+
   const BvhTopology& bvh_;
   const std::vector<BV>& volumes_;
   const MeshTopology& topo_;

@@ -4,7 +4,6 @@
 /// phase, a template parameter (ipc-toolkit passes its narrow phase the same way, at run time).
 #include <cstdint>
 
-#include <mccd/core/bvh.h>
 #include <mccd/core/carriers.h>
 #include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
@@ -29,20 +28,47 @@ struct ConservativeCcd {
 template <BoundingVolume BV, class NarrowPhase = ConservativeCcd>
 class LeafPairs {
  public:
-  LeafPairs(const MeshTopology& topo, const Carriers& carriers, const BvhTopology& bvh,
-            const std::vector<BV>& node_volumes, const SweptVolumes<BV>& swept, const Positions& x0,
+  LeafPairs(const MeshTopology& topo, const Carriers& carriers, const SweptVolumes<BV>& swept, const Positions& x0,
             const Positions& x1, QueryState& query, NarrowPhase narrow)
       : topo_(topo),
         carriers_(carriers),
-        bvh_(bvh),
-        nodes_(node_volumes),
         swept_(swept),
         x0_(x0),
         x1_(x1),
         query_(query),
         narrow_(narrow) {}
 
-  /// The feature pairs carried by the non-adjacent, overlapping leaf pair (s, t).
+  /// Whether every triangle of one BVH leaf is adjacent to every triangle of the other: their
+  /// features are all the orphan set's, so the leaf pair is skipped without a test.
+  bool all_adjacent(const std::uint32_t* a, std::uint32_t na, const std::uint32_t* b, std::uint32_t nb) const {
+    for (std::uint32_t i = 0; i < na; ++i)
+      for (std::uint32_t j = 0; j < nb; ++j)
+        if (!topo_.adjacent(a[i], b[j])) return false;
+    return true;
+  }
+
+  /// Two overlapping BVH leaves: each non-adjacent pair of their triangles, behind the
+  /// triangles' own volume test (skipped with one triangle per leaf, where the leaf volumes
+  /// are the triangle volumes). Testing each triangle against the other leaf first does not
+  /// pay: the triangles of overlapping leaves nearly always overlap the other leaf.
+  void process_leaves(const std::uint32_t* a, std::uint32_t na, const std::uint32_t* b, std::uint32_t nb,
+                      WorkerOutput& out) const {
+    if (na == 1 && nb == 1) {
+      process(a[0], b[0], out);
+      return;
+    }
+    for (std::uint32_t i = 0; i < na; ++i)
+      for (std::uint32_t j = 0; j < nb; ++j) process_if_overlapping(a[i], b[j], out);
+  }
+
+  /// A non-adjacent triangle pair (s, t) if their volumes overlap (adjacent pairs are skipped).
+  void process_if_overlapping(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
+    if (topo_.adjacent(s, t)) return;
+    ++out.stats.triangle_tests;
+    if (swept_.face(s).overlaps(swept_.face(t))) process(s, t, out);
+  }
+
+  /// The feature pairs carried by the non-adjacent, overlapping triangle pair (s, t).
   void process(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     // Every feature of s and t lies in its triangle during each piece of the step: when the
@@ -65,7 +91,7 @@ class LeafPairs {
   void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
     if (query_.stopped()) return;
     ++out.stats.feature_box_tests;
-    if (!swept_.vertex(v).overlaps(nodes_[bvh_.leaf_of(f)])) return;
+    if (!swept_.vertex(v).overlaps(swept_.face(f))) return;
     const int quarter = swept_.vertex_face_quarter(v, f);
     if (quarter < 0 || !wanted(quarter, v, f, ContactKind::VertexFace, out)) return;
     ++out.stats.vf_tests;
@@ -124,8 +150,6 @@ class LeafPairs {
 
   const MeshTopology& topo_;
   const Carriers& carriers_;
-  const BvhTopology& bvh_;
-  const std::vector<BV>& nodes_;
   const SweptVolumes<BV>& swept_;
   const Positions& x0_;
   const Positions& x1_;

@@ -26,6 +26,20 @@ Method parse_method(const char* name) {
   throw Error(std::string("unknown method '") + name + "' (expected bruteforce, traverse, phc or fbd)");
 }
 
+const char* to_string(BvhBuild b) {
+  switch (b) {
+    case BvhBuild::Median: return "median";
+    case BvhBuild::Sah: return "sah";
+  }
+  return "?";
+}
+
+BvhBuild parse_bvh_build(const char* name) {
+  if (!std::strcmp(name, "median")) return BvhBuild::Median;
+  if (!std::strcmp(name, "sah")) return BvhBuild::Sah;
+  throw Error(std::string("unknown BVH build '") + name + "' (expected median or sah)");
+}
+
 const char* to_string(VolumeKind v) {
   switch (v) {
     case VolumeKind::Kdop18: return "kdop18";
@@ -47,6 +61,11 @@ void validate(const SceneOptions& o) {
   if (static_cast<unsigned>(o.volume) > static_cast<unsigned>(VolumeKind::Aabb))
     throw Error("scene options: volume " + std::to_string(static_cast<unsigned>(o.volume)) +
                 " is not a VolumeKind (expected kdop18 or aabb)");
+  if (static_cast<unsigned>(o.bvh) > static_cast<unsigned>(BvhBuild::Sah))
+    throw Error("scene options: bvh " + std::to_string(static_cast<unsigned>(o.bvh)) +
+                " is not a BvhBuild (expected median or sah)");
+  if (o.leaf_size > 4)
+    throw Error("scene options: leaf_size must be 0 (default) or 1 to 4, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))
     throw Error("scene options: min_distance must be finite and >= 0, got " + std::to_string(o.min_distance));
   if (!(o.rebuild_sprout_ratio > 0) || !(o.rebuild_invalid_ratio > 0))

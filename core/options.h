@@ -22,6 +22,16 @@ const char* to_string(Method m);
 /// naming the accepted values otherwise.
 Method parse_method(const char* name);
 
+/// How the scene BVH is built (once, on the meshes' initial positions).
+enum class BvhBuild : std::uint8_t {
+  Median,  ///< the paper's: longest axis of the centroid bounds, split at its midpoint
+  Sah,     ///< binned surface area heuristic over the triangles' boxes (fewer volume tests)
+};
+/// "median" or "sah".
+const char* to_string(BvhBuild b);
+/// Parses "median" or "sah"; throws mccd::Error otherwise.
+BvhBuild parse_bvh_build(const char* name);
+
 /// The bounding volume of the scene BVH.
 enum class VolumeKind : std::uint8_t { Kdop18, Aabb };
 /// "kdop18" or "aabb".
@@ -32,6 +42,10 @@ VolumeKind parse_volume(const char* name);
 struct SceneOptions {
   Method method = Method::Fbd;  ///< default method of step() and advance()
   VolumeKind volume = VolumeKind::Kdop18;
+  BvhBuild bvh = BvhBuild::Sah;
+  /// Triangles per BVH leaf, 1 to 4; 0 picks the build's default (1 for median, as the
+  /// paper; 4 for sah).
+  unsigned leaf_size = 0;
   /// Rebuild the front from the root when S/L (nodes inserted by sprouting since the last
   /// build over the front size) exceeds this (paper equation 3). > 0.
   double rebuild_sprout_ratio = 0.30;

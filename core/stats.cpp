@@ -15,6 +15,7 @@ void add(CcdCounters& a, const CcdCounters& b) {
 
 StepStats& StepStats::operator+=(const StepStats& o) {
   volume_tests += o.volume_tests;
+  triangle_tests += o.triangle_tests;
   feature_box_tests += o.feature_box_tests;
   vf_tests += o.vf_tests;
   ee_tests += o.ee_tests;

@@ -12,6 +12,9 @@ namespace mccd {
 struct StepStats {
   Method method = Method::Fbd;
   std::uint64_t volume_tests = 0;       ///< bounding-volume overlap tests of BVH node pairs
+  /// Volume tests of triangle pairs inside BVH leaf pairs of several triangles (and inside one
+  /// such leaf); 0 with one triangle per leaf, where the leaf test is the triangle test.
+  std::uint64_t triangle_tests = 0;
   std::uint64_t feature_box_tests = 0;  ///< feature-pair swept-volume tests before elementary tests
   std::uint64_t vf_tests = 0;           ///< vertex-face elementary tests run
   std::uint64_t ee_tests = 0;           ///< edge-edge elementary tests run
@@ -20,9 +23,10 @@ struct StepStats {
   CcdCounters vf_ccd, ee_ccd;
   std::uint64_t vf_contacts = 0;
   std::uint64_t ee_contacts = 0;
-  std::uint64_t leaf_pairs = 0;         ///< non-adjacent leaf pairs whose volumes overlapped
-  /// Adjacent leaf pairs the traversal reached and skipped (their features are the orphan
-  /// set's); without the orphan set they would be front nodes (paper equation 5, B_a).
+  std::uint64_t leaf_pairs = 0;         ///< non-adjacent triangle pairs whose volumes overlapped
+  /// Leaf pairs the traversal reached and skipped because every triangle pair in them is
+  /// adjacent (their features are the orphan set's); without the orphan set they would be
+  /// front nodes (paper equation 5, B_a).
   std::uint64_t adjacent_leaf_pairs = 0;
   std::uint64_t sprouted = 0;           ///< front nodes inserted by sprouting this step (S)
   std::uint64_t invalidated = 0;        ///< front nodes that overlapped and were expanded (B)

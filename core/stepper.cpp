@@ -11,15 +11,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::vector<Vec3> centroids(const MeshTopology& topo, const Positions& x) {
-  std::vector<Vec3> c(topo.num_faces());
-  for (std::size_t f = 0; f < c.size(); ++f) {
-    const Triangle& t = topo.faces()[f];
-    c[f] = (x.point(t[0]) + x.point(t[1]) + x.point(t[2])) / 3.0;
-  }
-  return c;
-}
-
 void add_stats(std::vector<WorkerOutput>& units, std::size_t n, StepStats& total) {
   for (std::size_t i = 0; i < n; ++i) total += units[i].stats;
 }
@@ -31,13 +22,21 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       options_(options),
       x0_(initial),
       x1_(initial),
-      bvh_(centroids(scene.topology(), initial)),
+      bvh_(triangle_bounds(scene.topology().faces(), initial), options.bvh,
+           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 4u)),
       refit_plan_(bvh_),
       nodes_(bvh_.size()),
-      leaf_(scene.topology(), scene.carriers(), bvh_, nodes_, swept_, x0_, x1_, query_,
+      leaf_(scene.topology(), scene.carriers(), swept_, x0_, x1_, query_,
             ConservativeCcd{CcdOptions{options.min_distance}}),
       bvtt_(bvh_, nodes_, scene.topology(), leaf_, query_) {
   swept_.resize(scene.topology());
+  for (std::uint32_t i = 0; i < bvh_.size(); ++i)
+    if (bvh_.leaf(i)) {
+      const std::uint32_t* t = bvh_.leaf_triangles(i);
+      for (std::uint32_t a = 0; a < bvh_.leaf_count(i); ++a)
+        for (std::uint32_t b = a + 1; b < bvh_.leaf_count(i); ++b)
+          if (!scene.topology().adjacent(t[a], t[b])) leaf_internal_.emplace_back(t[a], t[b]);
+    }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { orphans(); },
                                                          [this] { join(); }});
@@ -73,8 +72,7 @@ void Stepper<BV>::update() {
 template <BoundingVolume BV>
 void Stepper<BV>::refit() {
   const auto t = Clock::now();
-  const auto& faces = scene_.topology().faces();
-  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) { return swept_.triangle(faces[f]); });
+  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
   result_.stats.t_refit = seconds_since(t);
 }
 
@@ -142,6 +140,7 @@ void Stepper<BV>::orphans() {
   if (method_ == Method::BruteForce) return;  // brute force already covers every pair
   const auto t = Clock::now();
   test_orphans(scene_.orphans(), leaf_, orphan_out_);
+  for (const auto& [s, t] : leaf_internal_) leaf_.process_if_overlapping(s, t, orphan_out_);
   flush(orphan_out_, contacts_);
   orphan_out_.stats.t_orphans = seconds_since(t);
 }

@@ -74,6 +74,9 @@ class Stepper {
   Leaf leaf_;
   Bvtt<BV, Leaf> bvtt_;
   BvttFront front_;
+  /// Non-adjacent triangle pairs inside one BVH leaf: no BVTT node holds them, so they are
+  /// tested every step beside the orphan set.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> leaf_internal_;
 
   // the current step
   Method method_ = Method::Fbd;

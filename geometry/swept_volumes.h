@@ -58,6 +58,7 @@ class SweptVolumes {
     vertex_.resize(topo.num_vertices());
     vertex_pieces_.resize(topo.num_vertices());
     edge_.resize(topo.num_edges());
+    face_.resize(topo.num_faces());
     face_pieces_.resize(topo.num_faces());
   }
 
@@ -92,10 +93,14 @@ class SweptVolumes {
     }
   }
 
-  /// Faces [begin, end): the merge of their corners' pieces (after update_vertices).
+  /// Faces [begin, end): the merge of their corners' volumes and pieces (after
+  /// update_vertices).
   void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f != end; ++f) {
       const Triangle& t = topo.faces()[f];
+      BV d = BV::merged(vertex_[t[0]], vertex_[t[1]]);
+      d.merge(vertex_[t[2]]);
+      face_[f] = d;
       PieceVolumes<BV> m = merged_pieces(vertex_pieces_[t[0]], vertex_pieces_[t[1]]);
       face_pieces_[f] = merged_pieces(m, vertex_pieces_[t[2]]);
     }
@@ -111,11 +116,7 @@ class SweptVolumes {
 
   const BV& vertex(std::uint32_t v) const { return vertex_[v]; }
   const BV& edge(std::uint32_t e) const { return edge_[e]; }
-  BV triangle(const Triangle& f) const {
-    BV d = BV::merged(vertex_[f[0]], vertex_[f[1]]);
-    d.merge(vertex_[f[2]]);
-    return d;
-  }
+  const BV& face(std::uint32_t f) const { return face_[f]; }
 
   /// Piece tests (see the file comment), only after the whole-step volumes overlap: the first
   /// quarter in which the two may meet, -1 when never.
@@ -138,6 +139,7 @@ class SweptVolumes {
   std::vector<BV> vertex_;                        ///< per vertex: its swept segment
   std::vector<PieceVolumes<BV>> vertex_pieces_;   ///< per vertex: its path over the pieces
   std::vector<BV> edge_;                          ///< per edge: merge of its two vertex volumes
+  std::vector<BV> face_;                          ///< per face: merge of its three vertex volumes
   std::vector<PieceVolumes<BV>> face_pieces_;     ///< per face: merge of its corners' pieces
 };
 

@@ -8,6 +8,15 @@
 
 using namespace mccd;
 
+namespace {
+/// Point-like triangles at the given centroids (box = the point).
+std::vector<TriangleBounds> points(const std::vector<Vec3>& c) {
+  std::vector<TriangleBounds> t;
+  for (const Vec3& p : c) t.push_back({p, p + Vec3(0.01, 0.02, 0.0), p});
+  return t;
+}
+}  // namespace
+
 TEST(Bvh, DepthFirstLayoutInvariants) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> U(0, 1);
@@ -16,21 +25,30 @@ TEST(Bvh, DepthFirstLayoutInvariants) {
     for (auto& p : c) p = Vec3(U(rng), U(rng) * 3, U(rng) * 0.1);
     if (n == 100)
       for (auto& p : c) p = Vec3(1, 1, 1);  // all equal: count-median fallback
-    BvhTopology b(c);
-    ASSERT_EQ(b.size(), std::size_t(2 * n - 1));
+    for (BvhBuild kind : {BvhBuild::Median, BvhBuild::Sah})
+    for (unsigned leaf_size = 1; leaf_size <= 4; ++leaf_size) {
+    BvhTopology b(points(c), kind, leaf_size);
+    if (leaf_size == 1) {
+      ASSERT_EQ(b.size(), std::size_t(2 * n - 1));
+    }
     std::vector<int> seen(n, 0);
+    std::size_t leaves = 0;
     for (std::uint32_t i = 0; i < b.size(); ++i) {
       if (b.leaf(i)) {
-        ++seen[b.triangle(i)];
-        EXPECT_EQ(b.leaf_of(b.triangle(i)), i);
+        ++leaves;
+        ASSERT_GE(b.leaf_count(i), 1u);
+        ASSERT_LE(b.leaf_count(i), leaf_size);
+        for (std::uint32_t k = 0; k < b.leaf_count(i); ++k) ++seen[b.leaf_triangles(i)[k]];
       } else {
         EXPECT_EQ(b.nodes()[b.left(i)].end, b.right(i));  // left subtree ends where right starts
         EXPECT_EQ(b.nodes()[b.right(i)].end, b.nodes()[i].end);
       }
     }
     for (int s : seen) EXPECT_EQ(s, 1);
+    EXPECT_EQ(b.size(), 2 * leaves - 1);
     if (n == 1000) {
       EXPECT_LT(b.depth(), 40u);
+    }
     }
   }
 }
@@ -40,7 +58,7 @@ TEST(Bvh, RefitContainsChildren) {
   std::uniform_real_distribution<double> U(-1, 1);
   std::vector<Vec3> c(257);
   for (auto& p : c) p = Vec3(U(rng), U(rng), U(rng));
-  BvhTopology b(c);
+  BvhTopology b(points(c), BvhBuild::Sah);
   std::vector<Kdop18> vol(b.size());
   refit_range(b, vol, 0, std::uint32_t(b.size()), [&](std::uint32_t t) {
     Kdop18 d = Kdop18::empty();

@@ -118,7 +118,7 @@ TEST(SceneFront, RebuildPolicyDoesNotChangeContacts) {
     }
   }
   EXPECT_EQ(rebuilds_n, 1u);  // only the first build
-  EXPECT_GT(rebuilds_a, 10u);
+  EXPECT_GT(rebuilds_a, 5u);  // whenever anything sprouted
 }
 
 TEST(SceneFront, FrontTestsFewerVolumesThanTraverse) {
