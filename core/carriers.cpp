@@ -9,6 +9,12 @@ Carriers::Carriers(const MeshTopology& topo) : topo_(&topo) {
     if (topo.vertex_face_count(v)) first_face_[v] = *topo.vertex_faces_begin(v);
   first_face_of_edge_.resize(topo.num_edges());
   for (std::size_t e = 0; e < topo.num_edges(); ++e) first_face_of_edge_[e] = *topo.edge_faces_begin(e);
+  firsts_.resize(topo.num_faces());
+  for (std::size_t f = 0; f < topo.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      firsts_[f].corner[k] = first_face_[topo.faces()[f][k]];
+      firsts_[f].edge[k] = first_face_of_edge_[topo.face_edges(f)[k]];
+    }
 }
 
 }  // namespace mccd::detail

@@ -21,8 +21,34 @@ namespace mccd::detail {
 
 class Carriers {
  public:
+  /// Per triangle, the first (lowest) face around each of its corners and each of its edges
+  /// (edge k joins corners k and k + 1), laid out together so that a leaf pair reads its two
+  /// triangles' records and nothing else on the common paths of the rule.
+  struct TriangleFirsts {
+    std::uint32_t corner[3];
+    std::uint32_t edge[3];
+  };
+
   Carriers() = default;
   explicit Carriers(const MeshTopology& topo);
+
+  const TriangleFirsts& firsts(std::uint32_t f) const { return firsts_[f]; }
+
+  /// carries_vf with the first face f0 of v already known (s's record): true when f0 is s; else
+  /// false unless f0 is adjacent to t, when the faces around v are searched.
+  bool carries_vf(std::uint32_t v, std::uint32_t f0, std::uint32_t s, std::uint32_t t) const {
+    if (f0 == s) return true;
+    if (!topo_->adjacent(f0, t)) return false;
+    return carries_vf(v, s, t);
+  }
+
+  /// carries_ee with the first faces fa of a and fb of b already known.
+  bool carries_ee(std::uint32_t a, std::uint32_t fa, std::uint32_t s, std::uint32_t b, std::uint32_t fb,
+                  std::uint32_t t) const {
+    if (fa == s && fb == t) return true;
+    if (!topo_->adjacent(fa, fb)) return false;
+    return carries_ee(a, s, b, t);
+  }
 
   /// Whether the leaf pair (s, t) (non-adjacent) carries the VF pair (v, t), v a corner of s.
   bool carries_vf(std::uint32_t v, std::uint32_t s, std::uint32_t t) const {
@@ -54,6 +80,7 @@ class Carriers {
   const MeshTopology* topo_ = nullptr;
   std::vector<std::uint32_t> first_face_;          ///< lowest face around each vertex
   std::vector<std::uint32_t> first_face_of_edge_;  ///< lowest face around each edge
+  std::vector<TriangleFirsts> firsts_;
 };
 
 }  // namespace mccd::detail

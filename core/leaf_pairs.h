@@ -1,13 +1,18 @@
 #pragma once
 /// @file Internal: the work at an overlapping leaf pair, the feature pairs it carries (the
-/// canonical rule, core/carriers.h), each behind its feature-volume tests, then the narrow
-/// phase, a template parameter (ipc-toolkit passes its narrow phase the same way, at run time).
+/// canonical rule, core/carriers.h), each behind its feature-volume tests (whole step, then
+/// halves and quarters) and the coplanarity filter (geometry/ccd_filter.h) restricted to the
+/// quarters where the volumes meet, then the narrow phase, a template parameter (ipc-toolkit
+/// passes its narrow phase the same way, at run time).
 #include <cstdint>
 
 #include <mccd/core/carriers.h>
 #include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
+#include <bit>
+
 #include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_filter.h>
 #include <mccd/geometry/swept_volumes.h>
 
 namespace mccd::detail {
@@ -76,15 +81,17 @@ class LeafPairs {
     if (swept_.faces_quarter(s, t) < 0) return;
     const Triangle& S = topo_.faces()[s];
     const Triangle& T = topo_.faces()[t];
-    for (auto v : S)
-      if (carriers_.carries_vf(v, s, t)) test_vf(v, t, out);
-    for (auto v : T)
-      if (carriers_.carries_vf(v, t, s)) test_vf(v, s, out);
+    const Carriers::TriangleFirsts& fs = carriers_.firsts(s);
+    const Carriers::TriangleFirsts& ft = carriers_.firsts(t);
+    for (int k = 0; k < 3; ++k)
+      if (carriers_.carries_vf(S[k], fs.corner[k], s, t)) test_vf(S[k], t, out);
+    for (int k = 0; k < 3; ++k)
+      if (carriers_.carries_vf(T[k], ft.corner[k], t, s)) test_vf(T[k], s, out);
     const auto& es = topo_.face_edges(s);
     const auto& et = topo_.face_edges(t);
-    for (auto a : es)
-      for (auto b : et)
-        if (carriers_.carries_ee(a, s, b, t)) test_ee(a, b, out);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (carriers_.carries_ee(es[i], fs.edge[i], s, et[j], ft.edge[j], t)) test_ee(es[i], et[j], out);
   }
 
   /// Vertex v against face f, behind the feature-volume tests.
@@ -92,12 +99,18 @@ class LeafPairs {
     if (query_.stopped()) return;
     ++out.stats.feature_box_tests;
     if (!swept_.vertex(v).overlaps(swept_.face(f))) return;
-    const int quarter = swept_.vertex_face_quarter(v, f);
-    if (quarter < 0 || !wanted(quarter, v, f, ContactKind::VertexFace, out)) return;
-    ++out.stats.vf_tests;
+    const unsigned pieces = swept_.vertex_face_quarters(v, f);
+    if (!pieces) return;
     const Triangle& t = topo_.faces()[f];
     CcdPoints p;
     load({v, t[0], t[1], t[2]}, p);
+    const unsigned quarters = pieces & coplanar_quarters(CcdKind::VertexFace, p, narrow_.options.min_distance);
+    if (!quarters) {
+      ++out.stats.vf_filtered;
+      return;
+    }
+    if (!wanted(std::countr_zero(quarters), v, f, ContactKind::VertexFace, out)) return;
+    ++out.stats.vf_tests;
     double toi = 0;
     if (narrow_.vertex_face(p, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
   }
@@ -109,11 +122,17 @@ class LeafPairs {
     if (!swept_.edge(a).overlaps(swept_.edge(b))) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
-    const int quarter = swept_.edges_quarter(ea, eb);
-    if (quarter < 0 || !wanted(quarter, a, b, ContactKind::EdgeEdge, out)) return;
-    ++out.stats.ee_tests;
+    const unsigned pieces = swept_.edges_quarters(ea, eb);
+    if (!pieces) return;
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);
+    const unsigned quarters = pieces & coplanar_quarters(CcdKind::EdgeEdge, p, narrow_.options.min_distance);
+    if (!quarters) {
+      ++out.stats.ee_filtered;
+      return;
+    }
+    if (!wanted(std::countr_zero(quarters), a, b, ContactKind::EdgeEdge, out)) return;
+    ++out.stats.ee_tests;
     double toi = 0;
     if (narrow_.edge_edge(p, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
   }

@@ -17,6 +17,8 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   volume_tests += o.volume_tests;
   triangle_tests += o.triangle_tests;
   feature_box_tests += o.feature_box_tests;
+  vf_filtered += o.vf_filtered;
+  ee_filtered += o.ee_filtered;
   vf_tests += o.vf_tests;
   ee_tests += o.ee_tests;
   add(vf_ccd, o.vf_ccd);

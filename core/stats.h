@@ -16,6 +16,9 @@ struct StepStats {
   /// such leaf); 0 with one triangle per leaf, where the leaf test is the triangle test.
   std::uint64_t triangle_tests = 0;
   std::uint64_t feature_box_tests = 0;  ///< feature-pair swept-volume tests before elementary tests
+  /// Feature pairs past their volume tests that the coplanarity filter removed before the
+  /// elementary test (geometry/ccd_filter.h).
+  std::uint64_t vf_filtered = 0, ee_filtered = 0;
   std::uint64_t vf_tests = 0;           ///< vertex-face elementary tests run
   std::uint64_t ee_tests = 0;           ///< edge-edge elementary tests run
   /// Per-stage counts inside the elementary tests (queries, culled by the swept box and by

@@ -11,6 +11,9 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <mccd/geometry/positions.h>
 
@@ -106,7 +109,18 @@ struct Dop {
   }
 
   /// True when the slabs intersect along every axis (touching counts as overlapping).
+  /// The 18-DOP's 9 slabs go 4 + 4 at a time in SSE2 registers (every x86-64 has SSE2), the
+  /// last one and the AABB's scalar; a NaN bound compares false either way.
   bool overlaps(const Dop& o) const {
+#if defined(__SSE2__)
+    if constexpr (Slabs == 9) {
+      const __m128 sep0 = _mm_or_ps(_mm_cmpgt_ps(_mm_loadu_ps(lo), _mm_loadu_ps(o.hi)),
+                                    _mm_cmpgt_ps(_mm_loadu_ps(o.lo), _mm_loadu_ps(hi)));
+      const __m128 sep1 = _mm_or_ps(_mm_cmpgt_ps(_mm_loadu_ps(lo + 4), _mm_loadu_ps(o.hi + 4)),
+                                    _mm_cmpgt_ps(_mm_loadu_ps(o.lo + 4), _mm_loadu_ps(hi + 4)));
+      return (_mm_movemask_ps(_mm_or_ps(sep0, sep1)) == 0) & !(lo[8] > o.hi[8]) & !(o.lo[8] > hi[8]);
+    }
+#endif
     bool sep = false;
     for (int i = 0; i < Slabs; ++i) sep |= (lo[i] > o.hi[i]) | (o.lo[i] > hi[i]);
     return !sep;

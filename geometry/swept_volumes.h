@@ -31,9 +31,19 @@ namespace mccd::detail {
 template <BoundingVolume BV>
 using PieceVolumes = std::array<BV, 6>;
 
-/// The first quarter q of the step (0..3) in which two features may meet (see the file
-/// comment), or -1 when they cannot meet at all, given `overlap(k)`: whether their volumes of
-/// piece k overlap (evaluated lazily, halves first). Any contact happens at t >= q / 4.
+/// The quarters q of the step (bit q, 0..3) in which two features may meet (see the file
+/// comment), 0 when they cannot meet at all, given `overlap(k)`: whether their volumes of
+/// piece k overlap (a quarter is only tested when its half overlaps).
+template <class Overlap>
+inline unsigned meeting_quarters(const Overlap& overlap) {
+  unsigned mask = 0;
+  for (int h = 0; h < 2; ++h)
+    if (overlap(h)) mask |= (overlap(2 + 2 * h) ? 1u : 0u) << (2 * h) | (overlap(3 + 2 * h) ? 2u : 0u) << (2 * h);
+  return mask;
+}
+
+/// The first quarter in which two features may meet, -1 when never (lazily: stops at the
+/// first one found).
 template <class Overlap>
 inline int first_meeting_quarter(const Overlap& overlap) {
   for (int h = 0; h < 2; ++h)
@@ -118,21 +128,21 @@ class SweptVolumes {
   const BV& edge(std::uint32_t e) const { return edge_[e]; }
   const BV& face(std::uint32_t f) const { return face_[f]; }
 
-  /// Piece tests (see the file comment), only after the whole-step volumes overlap: the first
-  /// quarter in which the two may meet, -1 when never.
-  int vertex_face_quarter(std::uint32_t v, std::uint32_t f) const {
+  /// Piece tests (see the file comment), only after the whole-step volumes overlap: the
+  /// quarters in which the two may meet (a bit mask), or the first one (-1 when never).
+  unsigned vertex_face_quarters(std::uint32_t v, std::uint32_t f) const {
     const auto &a = vertex_pieces_[v], &b = face_pieces_[f];
-    return first_meeting_quarter([&](int k) { return a[k].overlaps(b[k]); });
+    return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); });
   }
   int faces_quarter(std::uint32_t s, std::uint32_t t) const {
     const auto &a = face_pieces_[s], &b = face_pieces_[t];
     return first_meeting_quarter([&](int k) { return a[k].overlaps(b[k]); });
   }
   /// Edge pieces are merged on demand, only for the pieces consulted.
-  int edges_quarter(const Edge& ea, const Edge& eb) const {
+  unsigned edges_quarters(const Edge& ea, const Edge& eb) const {
     const auto &a0 = vertex_pieces_[ea[0]], &a1 = vertex_pieces_[ea[1]];
     const auto &b0 = vertex_pieces_[eb[0]], &b1 = vertex_pieces_[eb[1]];
-    return first_meeting_quarter([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
+    return meeting_quarters([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
   }
 
  private:
