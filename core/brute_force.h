@@ -9,14 +9,17 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/swept_volumes.h>
 
 namespace mccd::detail {
 
 template <BoundingVolume BV, class LeafPairs>
-void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::vector<BV>& nodes,
+void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::vector<BV>& nodes,
                  const SweptVolumes<BV>& swept, const LeafPairs& leaf_pairs, WorkerOutput& out) {
+  const MeshTopology& topo = scene.topology();
+  const bool filter = scene.has_skipped_pairs();
   // sweep along the slab where the scene is widest (fewest overlapping intervals)
   int ax = 0;
   if (bvh.size() > 0) {
@@ -44,6 +47,7 @@ void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::ve
       const std::uint32_t f = it->second;
       const Triangle& t = topo.faces()[f];
       if (t[0] == v || t[1] == v || t[2] == v) continue;
+      if (filter && scene.skips(scene.mesh_of_vertex(v), scene.mesh_of_face(f))) continue;
       ++out.stats.volume_tests;
       if (!vv.overlaps(swept.face(f))) continue;
       leaf_pairs.test_vf(v, f, out);
@@ -61,6 +65,7 @@ void brute_force(const MeshTopology& topo, const BvhTopology& bvh, const std::ve
       const std::uint32_t b = edges[j].second;
       const Edge& eb = topo.edges()[b];
       if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      if (filter && scene.skips(scene.mesh_of_edge(a), scene.mesh_of_edge(b))) continue;
       ++out.stats.volume_tests;
       if (!va.overlaps(swept.edge(b))) continue;
       leaf_pairs.test_ee(a, b, out);

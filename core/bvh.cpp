@@ -27,12 +27,52 @@ struct Box {
 class Builder {
  public:
   Builder(const std::vector<TriangleBounds>& tris, BvhBuild kind, unsigned max_leaf, std::vector<BvhNode>& nodes,
-          std::vector<std::uint32_t>& order)
-      : tris_(tris), kind_(kind), max_leaf_(max_leaf), order_(order), nodes_(nodes) {
+          std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& node_mesh)
+      : tris_(tris), kind_(kind), max_leaf_(max_leaf), order_(order), nodes_(nodes), node_mesh_(node_mesh) {
     order_.resize(tris.size());
     std::iota(order_.begin(), order_.end(), 0u);
   }
   std::uint32_t depth() const { return depth_; }
+
+  /// The meshes `ids` (triangle ranges in `offsets`, contiguous in order_ since it starts as
+  /// the identity): one subtree per mesh under a top split at the median of the meshes'
+  /// centroids along their widest axis.
+  std::uint32_t build_meshes(std::vector<std::uint32_t> ids, const std::vector<std::size_t>& offsets,
+                             std::uint32_t level) {
+    if (ids.size() == 1) {
+      const std::uint32_t first = static_cast<std::uint32_t>(nodes_.size());
+      const std::uint32_t root = build(offsets[ids[0]], offsets[ids[0] + 1], level);
+      node_mesh_.resize(nodes_.size(), BvhTopology::kMixed);
+      std::fill(node_mesh_.begin() + first, node_mesh_.end(), ids[0]);
+      return root;
+    }
+    std::vector<Vec3> centre(ids.size());
+    Vec3 mn = Vec3::Constant(kInf), mx = -mn;
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      Vec3 sum = Vec3::Zero();
+      for (std::size_t t = offsets[ids[k]]; t < offsets[ids[k] + 1]; ++t) sum += tris_[t].centroid;
+      centre[k] = sum / double(std::max<std::size_t>(1, offsets[ids[k] + 1] - offsets[ids[k]]));
+      mn = mn.cwiseMin(centre[k]);
+      mx = mx.cwiseMax(centre[k]);
+    }
+    int axis = 0;
+    (mx - mn).maxCoeff(&axis);
+    std::vector<std::size_t> by(ids.size());
+    std::iota(by.begin(), by.end(), std::size_t(0));
+    std::sort(by.begin(), by.end(), [&](std::size_t a, std::size_t b) {
+      return centre[a][axis] != centre[b][axis] ? centre[a][axis] < centre[b][axis] : ids[a] < ids[b];
+    });
+    std::vector<std::uint32_t> left, right;
+    for (std::size_t k = 0; k < by.size(); ++k) (k < by.size() / 2 ? left : right).push_back(ids[by[k]]);
+    const auto index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.push_back({0, 0});
+    node_mesh_.resize(nodes_.size(), BvhTopology::kMixed);
+    depth_ = std::max(depth_, level);
+    build_meshes(std::move(left), offsets, level + 1);
+    const std::uint32_t r = build_meshes(std::move(right), offsets, level + 1);
+    nodes_[index] = {static_cast<std::uint32_t>(nodes_.size()), r};
+    return index;
+  }
 
   // Builds the subtree over order[lo, hi) at node index nodes.size(); returns its index.
   std::uint32_t build(std::size_t lo, std::size_t hi, std::uint32_t level) {
@@ -145,6 +185,7 @@ class Builder {
   std::size_t max_leaf_;
   std::vector<std::uint32_t>& order_;
   std::vector<BvhNode>& nodes_;
+  std::vector<std::uint32_t>& node_mesh_;
   std::uint32_t depth_ = 0;
 };
 
@@ -159,13 +200,20 @@ std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, 
   return out;
 }
 
-BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf)
+BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf,
+                         const std::vector<std::size_t>& mesh_offsets)
     : max_leaf_(std::clamp(max_leaf, 1u, kMaxLeaf)) {
   const std::size_t n = triangles.size();
   if (n == 0) return;
   nodes_.reserve(2 * n - 1);
-  Builder b(triangles, kind, max_leaf_, nodes_, order_);
-  b.build(0, n, 0);
+  Builder b(triangles, kind, max_leaf_, nodes_, order_, node_mesh_);
+  std::vector<std::uint32_t> meshes;  // the meshes with triangles
+  for (std::size_t m = 0; m + 1 < mesh_offsets.size(); ++m)
+    if (mesh_offsets[m + 1] > mesh_offsets[m]) meshes.push_back(static_cast<std::uint32_t>(m));
+  if (meshes.empty())
+    b.build(0, n, 0);
+  else
+    b.build_meshes(std::move(meshes), mesh_offsets, 0);
   depth_ = b.depth();
 }
 

@@ -37,7 +37,11 @@ class BvhTopology {
   /// centroid bounds at its midpoint. Sah: the binned surface area heuristic over the
   /// triangles' boxes. When every centroid falls on one side, the range is split in half by
   /// count. A range of at most `max_leaf` (1..4) triangles becomes a leaf.
-  BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf = 1);
+  /// With `mesh_offsets` (triangle ranges of the meshes, [m, m + 1)), every mesh gets its own
+  /// subtree, under a top built over the meshes (split at the median of their centroids along
+  /// the widest axis); mesh_of_node() then names the mesh below a node.
+  BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf = 1,
+              const std::vector<std::size_t>& mesh_offsets = {});
 
   std::size_t size() const { return nodes_.size(); }
   bool leaf(std::uint32_t i) const { return nodes_[i].end == i + 1; }
@@ -54,10 +58,14 @@ class BvhTopology {
   /// Depth of the deepest leaf (the root has depth 0).
   std::uint32_t depth() const { return depth_; }
   unsigned max_leaf() const { return max_leaf_; }
+  /// The mesh whose triangles are all below node i, or kMixed (a node of the top).
+  static constexpr std::uint32_t kMixed = 0xffffffffu;
+  std::uint32_t mesh_of_node(std::uint32_t i) const { return node_mesh_.empty() ? 0 : node_mesh_[i]; }
 
  private:
   std::vector<BvhNode> nodes_;
   std::vector<std::uint32_t> order_;
+  std::vector<std::uint32_t> node_mesh_;
   std::uint32_t depth_ = 0;
   unsigned max_leaf_ = 1;
 };

@@ -11,6 +11,7 @@
 
 #include <mccd/core/bvh.h>
 #include <mccd/core/query.h>
+#include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/kdop.h>
 #include <mccd/geometry/topology.h>
@@ -23,9 +24,9 @@ namespace mccd::detail {
 template <BoundingVolume BV, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const MeshTopology& topo, const Leaf& leaf,
+  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const SceneTopology& scene, const Leaf& leaf,
        const QueryState& query)
-      : bvh_(bvh), volumes_(volumes), topo_(topo), leaf_(leaf), query_(query) {}
+      : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
 
   const BvhTopology& bvh() const { return bvh_; }
 
@@ -33,6 +34,7 @@ class Bvtt {
   /// (recorded in out.front with `record`) or yields its two children into `next`.
   template <bool record>
   void visit(const NodePair n, WorkerOutput& out, std::vector<NodePair>& next) const {
+    if (scene_.has_skipped_pairs() && skipped(n)) return;
     if (n.a == n.b) {
       if (bvh_.leaf(n.a)) return;  // pairs inside one leaf: Stepper's leaf-internal list
       const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
@@ -127,6 +129,13 @@ class Bvtt {
   }
 
  private:
+  /// Pairs below two nodes of single meshes that are never tested (a static mesh, or one
+  /// without self-collision): the whole BVTT subtree is skipped, never entering the front.
+  bool skipped(const NodePair& n) const {
+    const std::uint32_t ma = bvh_.mesh_of_node(n.a), mb = bvh_.mesh_of_node(n.b);
+    return ma != BvhTopology::kMixed && mb != BvhTopology::kMixed && scene_.skips(ma, mb);
+  }
+
   void process_leaves(const NodePair& n, WorkerOutput& out) const {
     leaf_.process_leaves(bvh_.leaf_triangles(n.a), bvh_.leaf_count(n.a), bvh_.leaf_triangles(n.b),
                          bvh_.leaf_count(n.b), out);
@@ -134,7 +143,7 @@ class Bvtt {
 
   const BvhTopology& bvh_;
   const std::vector<BV>& volumes_;
-  const MeshTopology& topo_;
+  const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;
 };

@@ -2,6 +2,7 @@
 /// @file How a scene steps: the method, the bounding volume, the front's rebuild rule, the
 /// minimum distance, and where the parallel stages run.
 #include <cstdint>
+#include <vector>
 
 #include <oneapi/tbb/task_arena.h>
 
@@ -39,6 +40,17 @@ const char* to_string(VolumeKind v);
 /// Parses "kdop18" or "aabb"; throws mccd::Error otherwise.
 VolumeKind parse_volume(const char* name);
 
+/// How one mesh takes part in the scene.
+struct MeshOptions {
+  /// A static mesh keeps its initial positions: a step needs none for it (an empty
+  /// PositionsView, or its unchanged positions, checked), it is never tested against itself
+  /// nor against another static mesh, and its part of the BVH is never refitted.
+  bool is_static = false;
+  /// Whether the mesh's own triangles are tested against each other (off for a rigid or
+  /// kinematic body, whose triangles cannot collide with each other). Off for static meshes.
+  bool self_collision = true;
+};
+
 struct SceneOptions {
   Method method = Method::Fbd;  ///< default method of step() and advance()
   VolumeKind volume = VolumeKind::Kdop18;
@@ -51,6 +63,8 @@ struct SceneOptions {
   double rebuild_sprout_ratio = 0.30;
   /// ... or when B/L (nodes invalidated since the last build) exceeds this (equation 4). > 0.
   double rebuild_invalid_ratio = 0.45;
+  /// One entry per mesh, or empty: every mesh deforming, with self-collision.
+  std::vector<MeshOptions> meshes;
   /// Report pairs that come within this distance (finite, >= 0) as contacts.
   double min_distance = 0.0;
   /// Where the parallel stages run; nullptr: the caller's arena. mccd never creates a
@@ -64,7 +78,8 @@ struct SceneOptions {
 };
 
 /// Throws mccd::Error naming the option when a value is out of range (an unknown method or
-/// volume, a ratio <= 0 or NaN, a negative or non-finite distance).
+/// volume, a ratio <= 0 or NaN, a negative or non-finite distance). The count of mesh options
+/// is checked by the scene.
 void validate(const SceneOptions& options);
 
 }  // namespace mccd

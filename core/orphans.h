@@ -3,6 +3,7 @@
 /// carriers are adjacent triangle pairs, which the BVTT front never holds. Computed once from
 /// connectivity; tested every step behind the same feature-volume tests as every other pair.
 #include <cstdint>
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -18,6 +19,15 @@ class OrphanSet {
   const std::vector<std::pair<std::uint32_t, std::uint32_t>>& vf() const { return vf_; }
   /// Orphan EE pairs (edge a, edge b), a < b, sorted.
   const std::vector<std::pair<std::uint32_t, std::uint32_t>>& ee() const { return ee_; }
+
+  /// Drops the pairs inside meshes whose own pairs are never tested: an orphan pair lies in
+  /// one connected piece, so `skip_face(f)` of any face of it decides (VF: the face; EE: the
+  /// first face of edge a).
+  template <class SkipFace>
+  void drop_if(const SkipFace& skip_face, const MeshTopology& topo) {
+    std::erase_if(vf_, [&](const auto& p) { return skip_face(p.second); });
+    std::erase_if(ee_, [&](const auto& p) { return skip_face(*topo.edge_faces_begin(p.first)); });
+  }
 
  private:
   std::vector<std::pair<std::uint32_t, std::uint32_t>> vf_, ee_;

@@ -48,7 +48,7 @@ struct Scene::Impl {
       if (meshes[m].name.empty()) meshes[m].name = "mesh " + std::to_string(m);
       validate_mesh(meshes[m]);
     }
-    topo = std::make_unique<detail::SceneTopology>(meshes);
+    topo = std::make_unique<detail::SceneTopology>(meshes, options.meshes);
     last_end.resize(topo->topology().num_vertices());
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),
@@ -69,9 +69,20 @@ struct Scene::Impl {
     if (views.size() != meshes.size())
       throw Error(std::string(which) + ": " + std::to_string(views.size()) + " position arrays for " +
                   std::to_string(meshes.size()) + " meshes");
-    for (std::size_t m = 0; m < views.size(); ++m)
-      validate_positions(views[m], meshes[m].num_vertices(),
-                         std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")");
+    for (std::size_t m = 0; m < views.size(); ++m) {
+      const std::string what = std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")";
+      if (!topo->mesh_options(m).is_static) {
+        validate_positions(views[m], meshes[m].num_vertices(), what);
+        continue;
+      }
+      // A static mesh: no positions, or its own, unchanged.
+      if (views[m].rows() == 0) continue;
+      validate_positions(views[m], meshes[m].num_vertices(), what);
+      for (std::size_t v = 0; v < views[m].rows(); ++v)
+        if (views[m].point(v) != meshes[m].vertices.point(v))
+          throw Error(what + ": the mesh is static, but vertex " + std::to_string(v) +
+                      " differs from its initial position (give an empty PositionsView, or the same positions)");
+    }
   }
 
   static Method checked(std::optional<Method> method, Method fallback) {
@@ -85,6 +96,7 @@ struct Scene::Impl {
   /// Copies the views into `dst` (global ids), converting float to double.
   void load(const std::vector<PositionsView>& views, Positions& dst) const {
     for (std::size_t m = 0; m < views.size(); ++m) {
+      if (topo->mesh_options(m).is_static) continue;  // its positions never change
       const PositionsView& v = views[m];
       double* out = dst.data() + 3 * topo->vertex_offset(m);
       if (v.is_dense_double()) {

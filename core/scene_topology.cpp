@@ -4,7 +4,16 @@
 
 namespace mccd::detail {
 
-SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes) {
+SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options)
+    : options_(std::move(options)) {
+  if (options_.empty()) options_.resize(meshes.size());
+  if (options_.size() != meshes.size())
+    throw Error("scene options: " + std::to_string(options_.size()) + " mesh options for " +
+                std::to_string(meshes.size()) + " meshes");
+  for (MeshOptions& o : options_) {
+    if (o.is_static) o.self_collision = false;
+    has_skipped_ = has_skipped_ || !o.self_collision;
+  }
   std::vector<Triangle> faces;
   for (const TriMesh& m : meshes) {
     const std::size_t off = vertex_offsets_.back();
@@ -24,8 +33,22 @@ SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes) {
     while (e < topo_.num_edges() && topo_.edges()[e][1] < vertex_offsets_[m + 1]) ++e;
     edge_offsets_.push_back(e);
   }
+  auto add = [](std::vector<std::pair<std::size_t, std::size_t>>& r, std::size_t b, std::size_t e) {
+    if (b == e) return;
+    if (!r.empty() && r.back().second == b)
+      r.back().second = e;
+    else
+      r.emplace_back(b, e);
+  };
+  for (std::size_t m = 0; m < options_.size(); ++m)
+    if (!options_[m].is_static) {
+      add(moving_.vertices, vertex_offsets_[m], vertex_offsets_[m + 1]);
+      add(moving_.faces, face_offsets_[m], face_offsets_[m + 1]);
+      add(moving_.edges, edge_offsets_[m], edge_offsets_[m + 1]);
+    }
   carriers_ = Carriers(topo_);
   orphans_ = OrphanSet(topo_);
+  if (has_skipped_) orphans_.drop_if([&](std::uint32_t f) { return !options_[mesh_of_face(f)].self_collision; }, topo_);
 }
 
 }  // namespace mccd::detail

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <mccd/core/carriers.h>
+#include <mccd/core/options.h>
 #include <mccd/core/orphans.h>
 #include <mccd/geometry/topology.h>
 
@@ -15,8 +16,10 @@ namespace mccd::detail {
 class SceneTopology {
  public:
   SceneTopology() = default;
-  /// From validated meshes. Throws mccd::Error when the ids do not fit in 32 bits.
-  explicit SceneTopology(const std::vector<TriMesh>& meshes);
+  /// From validated meshes and their options (empty: defaults). Throws mccd::Error when the
+  /// ids do not fit in 32 bits or the option count is wrong. Orphan pairs inside a mesh
+  /// whose own pairs are never tested are dropped here.
+  SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options);
   SceneTopology(const SceneTopology&) = delete;  // the carriers point into topo_
   SceneTopology& operator=(const SceneTopology&) = delete;
 
@@ -24,6 +27,26 @@ class SceneTopology {
   const Carriers& carriers() const { return carriers_; }
   const OrphanSet& orphans() const { return orphans_; }
   std::size_t num_meshes() const { return vertex_offsets_.size() - 1; }
+
+  const MeshOptions& mesh_options(std::size_t mesh) const { return options_[mesh]; }
+  /// Whether any pair of triangles is never tested (a static mesh, or self-collision off).
+  bool has_skipped_pairs() const { return has_skipped_; }
+  /// Whether pairs between meshes ma and mb are never tested: within one mesh without
+  /// self-collision, or between two static meshes.
+  bool skips(std::uint32_t ma, std::uint32_t mb) const {
+    return ma == mb ? !options_[ma].self_collision : (options_[ma].is_static && options_[mb].is_static);
+  }
+  bool skips_faces(std::uint32_t f, std::uint32_t g) const {
+    return has_skipped_ && skips(mesh_of_face(f), mesh_of_face(g));
+  }
+
+  const std::vector<std::size_t>& face_offsets() const { return face_offsets_; }
+  /// Index ranges [begin, end) of the vertices, faces and edges of the meshes that move
+  /// (not static), neighbouring meshes merged: what a step updates.
+  struct Ranges {
+    std::vector<std::pair<std::size_t, std::size_t>> vertices, faces, edges;
+  };
+  const Ranges& moving() const { return moving_; }
 
   std::size_t vertex_offset(std::size_t mesh) const { return vertex_offsets_[mesh]; }
   std::size_t face_offset(std::size_t mesh) const { return face_offsets_[mesh]; }
@@ -40,6 +63,9 @@ class SceneTopology {
   MeshTopology topo_;
   Carriers carriers_;
   OrphanSet orphans_;
+  std::vector<MeshOptions> options_;
+  bool has_skipped_ = false;
+  Ranges moving_;
 };
 
 }  // namespace mccd::detail

@@ -14,6 +14,8 @@ void add(CcdCounters& a, const CcdCounters& b) {
 }  // namespace
 
 StepStats& StepStats::operator+=(const StepStats& o) {
+  updated_vertices += o.updated_vertices;
+  refit_nodes += o.refit_nodes;
   volume_tests += o.volume_tests;
   triangle_tests += o.triangle_tests;
   feature_box_tests += o.feature_box_tests;

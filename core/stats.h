@@ -11,6 +11,8 @@ namespace mccd {
 /// Counts are exact and independent of the thread count; times are wall-clock seconds.
 struct StepStats {
   Method method = Method::Fbd;
+  std::uint64_t updated_vertices = 0;   ///< vertices whose swept volumes were updated (static: none)
+  std::uint64_t refit_nodes = 0;        ///< BVH nodes refitted (a static mesh's: none)
   std::uint64_t volume_tests = 0;       ///< bounding-volume overlap tests of BVH node pairs
   /// Volume tests of triangle pairs inside BVH leaf pairs of several triangles (and inside one
   /// such leaf); 0 with one triangle per leaf, where the leaf test is the triangle test.

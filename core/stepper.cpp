@@ -23,19 +23,28 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       x0_(initial),
       x1_(initial),
       bvh_(triangle_bounds(scene.topology().faces(), initial), options.bvh,
-           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 4u)),
-      refit_plan_(bvh_),
+           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 4u), scene.face_offsets()),
+      refit_plan_(bvh_,
+                  [&](std::uint32_t n) {
+                    const std::uint32_t m = bvh_.mesh_of_node(n);
+                    return m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
+                  }),
       nodes_(bvh_.size()),
       leaf_(scene.topology(), scene.carriers(), swept_, x0_, x1_, query_,
             ConservativeCcd{CcdOptions{options.min_distance}}),
-      bvtt_(bvh_, nodes_, scene.topology(), leaf_, query_) {
-  swept_.resize(scene.topology());
+      bvtt_(bvh_, nodes_, scene, leaf_, query_) {
+  const MeshTopology& topo = scene.topology();
+  swept_.resize(topo);
+  // Every volume once at the initial positions: the static meshes' stay as they are.
+  const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
+  update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
+  refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
   for (std::uint32_t i = 0; i < bvh_.size(); ++i)
     if (bvh_.leaf(i)) {
       const std::uint32_t* t = bvh_.leaf_triangles(i);
       for (std::uint32_t a = 0; a < bvh_.leaf_count(i); ++a)
         for (std::uint32_t b = a + 1; b < bvh_.leaf_count(i); ++b)
-          if (!scene.topology().adjacent(t[a], t[b])) leaf_internal_.emplace_back(t[a], t[b]);
+          if (!topo.adjacent(t[a], t[b]) && !scene.skips_faces(t[a], t[b])) leaf_internal_.emplace_back(t[a], t[b]);
     }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { orphans(); },
@@ -65,7 +74,10 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
 template <BoundingVolume BV>
 void Stepper<BV>::update() {
   const auto t = Clock::now();
-  update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance);
+  const SceneTopology::Ranges& moving = scene_.moving();
+  update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance, moving.vertices, moving.faces,
+                       moving.edges);
+  for (const auto& [b, e] : moving.vertices) result_.stats.updated_vertices += e - b;
   result_.stats.t_update = seconds_since(t);
 }
 
@@ -73,6 +85,7 @@ template <BoundingVolume BV>
 void Stepper<BV>::refit() {
   const auto t = Clock::now();
   refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
+  result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
   result_.stats.t_refit = seconds_since(t);
 }
 
@@ -83,7 +96,7 @@ void Stepper<BV>::search() {
   switch (method_) {
     case Method::BruteForce:
       serial_.clear();
-      brute_force(scene_.topology(), bvh_, nodes_, swept_, leaf_, serial_);
+      brute_force(scene_, bvh_, nodes_, swept_, leaf_, serial_);
       flush(serial_, contacts_);
       st += serial_.stats;
       break;

@@ -91,6 +91,8 @@ class Positions {
 /// other copy.
 class PositionsView {
  public:
+  /// No positions (0 rows): what a step takes for a static mesh.
+  PositionsView() = default;
   PositionsView(const Positions& p) : PositionsView(p.data(), p.rows()) {}  // NOLINT: implicit by design
   PositionsView(Positions&&) = delete;
 

@@ -20,15 +20,21 @@ class RefitPlan {
  public:
   RefitPlan() = default;
   /// Cuts the BVH into subtrees of at most ~1/64 of the nodes, and at least `min_subtree`
-  /// nodes so that small scenes stay one piece.
-  explicit RefitPlan(const BvhTopology& bvh, std::uint32_t min_subtree = 2048) {
+  /// nodes so that small scenes stay one piece. Subtrees whose triangles never move
+  /// (`is_static(node)`) are set apart: refitted once by run_static(), never by run().
+  /// Nodes above the meshes' subtrees (mesh_of_node() == kMixed) are always in the top, so a
+  /// static mesh's subtree is never part of a moving subtree.
+  template <class IsStatic>
+  RefitPlan(const BvhTopology& bvh, const IsStatic& is_static, std::uint32_t min_subtree = 2048) {
     if (bvh.size() == 0) return;
     const std::uint32_t limit = std::max<std::uint32_t>(min_subtree, static_cast<std::uint32_t>(bvh.size() / 64));
     std::vector<std::uint32_t> stack{0};
     while (!stack.empty()) {
       const std::uint32_t n = stack.back();
       stack.pop_back();
-      if (bvh.subtree_size(n) <= limit || bvh.leaf(n)) {
+      if (is_static(n)) {
+        static_roots_.push_back(n);
+      } else if ((bvh.subtree_size(n) <= limit && bvh.mesh_of_node(n) != BvhTopology::kMixed) || bvh.leaf(n)) {
         roots_.push_back(n);
       } else {
         top_.push_back(n);
@@ -57,11 +63,24 @@ class RefitPlan {
       volumes[*it] = BV::merged(volumes[bvh.left(*it)], volumes[bvh.right(*it)]);
   }
 
+  /// Refits the static subtrees (once, at the start; the top is refitted by run()).
+  template <class BV, class LeafVolume>
+  void run_static(const BvhTopology& bvh, std::vector<BV>& volumes, const LeafVolume& leaf_volume) const {
+    for (std::uint32_t r : static_roots_) refit_range(bvh, volumes, r, bvh.nodes()[r].end, leaf_volume);
+  }
+
   std::size_t num_subtrees() const { return roots_.size(); }
+  /// Nodes that run() refits: what one step's refit costs.
+  std::size_t nodes_refitted(const BvhTopology& bvh) const {
+    std::size_t n = top_.size();
+    for (std::uint32_t r : roots_) n += bvh.subtree_size(r);
+    return n;
+  }
 
  private:
   std::vector<std::uint32_t> roots_;  ///< subtrees refitted in parallel
   std::vector<std::uint32_t> top_;    ///< inner nodes above them, ascending
+  std::vector<std::uint32_t> static_roots_;  ///< subtrees that never move
 };
 
 }  // namespace mccd::detail

@@ -3,6 +3,8 @@
 /// faces and edges, each under a static partition (fixed work per item); ranges below one
 /// grain run serially, without a task.
 #include <cstddef>
+#include <utility>
+#include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -23,15 +25,23 @@ void static_for(std::size_t n, std::size_t grain, const Body& body) {
       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, tbb::static_partitioner());
 }
 
+using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
+
+/// The volumes of the given vertex, face and edge ranges (the moving meshes'; a static mesh's
+/// volumes are computed once).
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
-                          const Positions& x1, double min_distance) {
+                          const Positions& x1, double min_distance, const IndexRanges& vertices,
+                          const IndexRanges& faces, const IndexRanges& edges) {
   constexpr std::size_t kGrain = 4096;
-  static_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
-    swept.update_vertices(x0.data(), x1.data(), min_distance, b, e);
-  });
-  static_for(topo.num_faces(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b, e); });
-  static_for(topo.num_edges(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b, e); });
+  for (const auto& [b0, e0] : vertices)
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
+      swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e);
+    });
+  for (const auto& [b0, e0] : faces)
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b0 + b, b0 + e); });
+  for (const auto& [b0, e0] : edges)
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b0 + b, b0 + e); });
 }
 
 }  // namespace mccd::detail

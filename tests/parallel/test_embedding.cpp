@@ -109,8 +109,10 @@ TEST(Embedding, ConcurrentStepOfOneSceneIsRefused) {
   // Two threads keep stepping one scene; whenever they overlap, one of them must get an
   // mccd::Error, and every step that ran must be right (the scene is never corrupted).
   const AnimatedScene s = make_folding_cloth(40, 3);
-  Scene sc(s.meshes, SceneOptions{.method = Method::Traverse});
-  Scene ref(s.meshes, SceneOptions{.method = Method::Traverse});
+  SceneOptions traverse;
+  traverse.method = Method::Traverse;
+  Scene sc(s.meshes, traverse);
+  Scene ref(s.meshes, traverse);
   const auto start = views(s.frames[0]), end = views(s.frames[1]);
   const std::vector<Contact> expected = ref.step(start, end).contacts;
   std::atomic<int> refused{0}, wrong{0}, done{0};
