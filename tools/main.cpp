@@ -51,10 +51,10 @@ std::string unexpected_message(const std::string& command, const std::string& ar
   if (command.empty() && (arg.empty() || arg[0] != '-')) {
     std::string names;
     for (const CommandInfo& c : registry()) names += (names.empty() ? "" : ", ") + c.name;
-    return "mccd: unknown command '" + arg + "' (commands: " + names + "; see 'mccd --help')";
+    return "mccd: error: unknown command '" + arg + "' (commands: " + names + "; see 'mccd --help')";
   }
   const bool option = arg.size() > 1 && arg[0] == '-';
-  return prog + ": " + (option ? "unknown option " : "unexpected argument ") + arg + " (see '" + prog + " --help')";
+  return prog + ": error: " + (option ? "unknown option " : "unexpected argument ") + arg + " (see '" + prog + " --help')";
 }
 
 int run_main(int argc, char** argv) {

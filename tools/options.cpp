@@ -47,7 +47,9 @@ CLI::Validator integer_in(long long lo, long long hi) {
 }
 
 CLI::Validator number_in(double lo, double hi, bool lo_open) {
-  const std::string range = (lo_open ? "greater than " : "from ") + format_number(lo) + " to " + format_number(hi);
+  const std::string range = std::isinf(hi) ? (lo_open ? "greater than " : "at least ") + format_number(lo)
+                                           : (lo_open ? "greater than " : "from ") + format_number(lo) + " to " +
+                                                 format_number(hi);
   return CLI::Validator(
       [lo, hi, lo_open, range](std::string& s) -> std::string {
         double v = 0;
@@ -98,7 +100,7 @@ CLI::Option* add_min_distance_option(CLI::App& app, double& d, const std::string
                   "report pairs that come within this distance as contacts (a finite number >= 0; "
                   "default 0)" + extra)
       ->type_name("D")
-      ->check(number_in(0, std::numeric_limits<double>::max()));
+      ->check(number_in(0, std::numeric_limits<double>::infinity()));
 }
 
 void check_min_distance(double d, const std::vector<Positions>& frame) {
@@ -156,7 +158,7 @@ std::string one_line_message(const CLI::Error& e, const std::string& command) {
     if (c == '\n') c = ' ';
   while (!msg.empty() && msg.back() == ' ') msg.pop_back();
   const std::string prog = command.empty() ? "mccd" : "mccd " + command;
-  return prog + ": " + msg + " (see '" + prog + " --help')";
+  return prog + ": error: " + msg + " (see '" + prog + " --help')";
 }
 
 }  // namespace mccd::cli

@@ -25,7 +25,7 @@ inline constexpr int kMaxThreads = 1024;
 /// "expected an integer from LO to HI, got 'VALUE'".
 CLI::Validator integer_in(long long lo, long long hi);
 /// Accepts a finite decimal number in [lo, hi] (in (lo, hi] when `lo_open`); otherwise the
-/// message names the range and quotes the value.
+/// message names the range and quotes the value. `hi` may be +infinity (no upper bound).
 CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 
 /// `--method NAME` (bruteforce, traverse, phc, fbd, or its alias front) into `method`.

@@ -45,7 +45,7 @@ std::string json_head(const nlohmann::json& facts, const std::string& records) {
 
 std::string json_ending(std::size_t steps, const std::string& why, const nlohmann::json& extra) {
   nlohmann::json end = extra.is_object() ? extra : nlohmann::json::object();
-  end["steps"] = steps;
+  end["finished_steps"] = steps;
   end["complete"] = why.empty();
   if (!why.empty()) end["stopped"] = why;
   std::string s = end.dump();
