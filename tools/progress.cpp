@@ -84,7 +84,7 @@ void ProgressBar::draw_locked() {
   std::string bar(std::size_t(kBarWidth), ' ');
   for (int i = 0; i < int(frac * kBarWidth + 0.5); ++i) bar[std::size_t(i)] = '#';
   const std::string left = done_ > 0 ? clock_time(elapsed / done_ * (double(total_) - done_)) : "?";
-  std::fprintf(stderr, "\r\033[K[%s] step %zu/%zu  contacts %s  elapsed %s  left %s", bar.c_str(),
+  std::fprintf(stderr, "\r\033[K[%s] %zu/%zu steps  contacts %s  elapsed %s  left %s", bar.c_str(),
                std::min(total_, std::size_t(done_)), total_, grouped(contacts_).c_str(), clock_time(elapsed).c_str(),
                left.c_str());
   std::fflush(stderr);

@@ -87,10 +87,16 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
                            impact_text(frame_time(snap->step, snap->substep, snap->substeps, snap->t)) + ", " +
                            grouped(highlighted_faces(view)) + " triangles highlighted";
   if (!st.image.empty()) {
-    write_snapshot_png(st.image, view, st.image_width, st.image_height, camera);
+    const Image image = render_snapshot(view, st.image_width, st.image_height, camera);
+    {
+      // a signal waits for the file to be complete, so that no temporary is left behind
+      std::lock_guard<std::mutex> lock(interrupt_mutex());
+      write_png(st.image, image);
+    }
     std::printf("picture: %s (%s)\n", st.image.c_str(), when.c_str());
   }
   if (!st.colored.empty()) {
+    std::lock_guard<std::mutex> lock(interrupt_mutex());
     write_snapshot_ply(st.colored, view);
     std::printf("coloured mesh: %s (%s)\n", st.colored.c_str(), when.c_str());
   }

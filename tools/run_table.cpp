@@ -106,10 +106,10 @@ void RunTotals::add(const StepRow& r) {
 void print_summary(const RunTotals& t, std::size_t frames, const char* method, int threads, double wall) {
   const std::string span = "frames 0 to " + std::to_string(frames ? frames - 1 : 0);
   if (t.vf + t.ee == 0) {
-    std::printf("no collision in %zu steps (%s)\n", t.steps, span.c_str());
+    std::printf("no collision in %zu step%s (%s)\n", t.steps, t.steps == 1 ? "" : "s", span.c_str());
   } else {
-    std::printf("%zu steps (%s), %zu with contacts: %s contacts (%s vertex-face, %s edge-edge)\n", t.steps,
-                span.c_str(), t.steps_with_contacts, grouped(t.vf + t.ee).c_str(), grouped(t.vf).c_str(),
+    std::printf("%zu step%s (%s), %zu with contacts: %s contacts (%s vertex-face, %s edge-edge)\n", t.steps,
+                t.steps == 1 ? "" : "s", span.c_str(), t.steps_with_contacts, grouped(t.vf + t.ee).c_str(), grouped(t.vf).c_str(),
                 grouped(t.ee).c_str());
     std::printf("first impact at frame time %s (step %zu, frame %zu to %zu)\n", impact_text(t.first).c_str(),
                 t.first_step, t.first_step, t.first_step + 1);

@@ -76,10 +76,9 @@ std::size_t highlighted_faces(const std::vector<ViewMesh>& view) {
   return n;
 }
 
-void write_snapshot_png(const std::string& path, const std::vector<ViewMesh>& view, int width, int height,
-                        const CameraRequest& camera) {
+Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera) {
   const Camera cam = frame_highlight(view, double(width) / double(height), camera);
-  write_png(path, render(view, cam, width, height));
+  return render(view, cam, width, height);
 }
 
 void write_snapshot_ply(const std::string& path, const std::vector<ViewMesh>& view) {

@@ -10,6 +10,7 @@
 #include <mccd/geometry/mesh.h>
 
 #include "render/camera.h"
+#include "render/image.h"
 #include "render/scene_view.h"
 
 namespace mccd::cli {
@@ -44,9 +45,8 @@ class SnapshotPicker {
 std::vector<ViewMesh> snapshot_view(const std::vector<TriMesh>& meshes, const std::vector<Positions>& start,
                                     const std::vector<Positions>& end, const Snapshot& snap);
 
-/// Renders `view` to a PNG (width x height pixels) framed automatically or by `camera`.
-void write_snapshot_png(const std::string& path, const std::vector<ViewMesh>& view, int width, int height,
-                        const CameraRequest& camera);
+/// Renders `view` (width x height pixels) framed automatically or by `camera`.
+Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera);
 /// Writes `view` as one PLY with per-face colours (highlighted red, others by mesh).
 void write_snapshot_ply(const std::string& path, const std::vector<ViewMesh>& view);
 

@@ -171,6 +171,24 @@ TEST(CliRun, ExitStatuses) {
   EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
 }
 
+TEST(CliRun, AFolderOfFramesInNaturalOrder) {
+  ScratchDir dir("mccd_cli_folder");
+  const auto scene = mccd::make_folding_cloth(8, 3);
+  const char* names[] = {"s1.ply", "s2.ply", "s10.ply"};  // "s10" sorts last, not between
+  for (int f = 0; f < 3; ++f) {
+    mccd::TriMesh m = scene.meshes[0];
+    m.vertices = scene.frames[std::size_t(f)][0];
+    mccd::write_ply(dir.file(names[f]), m);
+  }
+  const auto r = run_cli({"run", dir.path().string(), "--quiet"});
+  EXPECT_LE(r.status, 1) << r.err;
+  EXPECT_NE(r.out.find("s1.ply .. s10.ply: 3 frames"), std::string::npos) << r.out;
+  ScratchDir empty("mccd_cli_folder_empty");
+  const auto e = run_cli({"run", empty.path().string()});
+  EXPECT_EQ(e.status, 2);
+  EXPECT_NE(e.err.find(empty.path().string() + ": no .ply or .obj frames in this folder"), std::string::npos) << e.err;
+}
+
 TEST(CliRun, QuietAndVerbose) {
   auto r = run_cli({"run", "--scene", "cloth", "--size", "1", "--frames", "5", "--quiet", "--exit-zero"});
   EXPECT_EQ(r.status, 0);
