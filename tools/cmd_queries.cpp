@@ -79,6 +79,7 @@ int queries(const QueryOptions& args) {
       throw Error(p + ": no such file or directory");
     }
   }
+  if (files.empty()) throw Error(args.paths.front() + ": no .csv query files found");
   std::vector<bool> truth_json;
   bool have_json = false;
   if (!args.truth.empty()) {

@@ -1,6 +1,7 @@
 #include "run_driver.h"
 
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -113,6 +114,14 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     throw Error("--image-step " + std::to_string(*st.image_step) + ": the run has steps 0 to " +
                 std::to_string(steps - 1));
   if (!st.camera.empty()) (void)parse_camera(st.camera);
+  // every output's folder exists before any work (the picture is only written at the end)
+  for (const std::string* path : {&st.contacts, &st.stats, &st.image, &st.colored}) {
+    if (path->empty()) continue;
+    const std::filesystem::path folder = std::filesystem::absolute(*path).parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+      throw Error(*path + ": cannot write: no such folder " + folder.string());
+  }
   if (!st.contacts.empty()) check_extension("--contacts", st.contacts, {".csv", ".json"});
   if (!st.stats.empty()) check_extension("--stats", st.stats, {".json"});
   std::vector<Positions> first;

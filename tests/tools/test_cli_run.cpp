@@ -261,6 +261,11 @@ TEST(CliRun, BadInputBeforeTheFirstStepLeavesNoFile) {
   r = run_cli({"run", "--scene", "cloth", "--contacts", out.file("c.txt")});
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("expected a .csv or .json file name"), std::string::npos) << r.err;
+  // a picture is written at the end, but its folder is checked before any step runs
+  r = run_cli({"run", "--scene", "cloth", "--contacts", out.file("c.csv"), "--image", out.file("no/such/p.png")});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find(out.file("no/such/p.png") + ": cannot write: no such folder"), std::string::npos) << r.err;
   EXPECT_TRUE(out.names().empty());
 }
 
