@@ -1,12 +1,16 @@
 // `mccd info FILE...`: loads meshes and prints their size, connectivity and bounds.
+// Exit status 2 when any file cannot be read (the others are still reported).
 #include <chrono>
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <memory>
 #include <string>
 
-#include "args.h"
+#include <CLI/App.hpp>
+
 #include "command.h"
+#include "options.h"
 #include <mccd/geometry/mesh.h>
 #include <mccd/geometry/mesh_io.h>
 #include <mccd/geometry/topology.h>
@@ -33,25 +37,32 @@ void print_info(const std::string& path) {
             << "  load time:           " << std::chrono::duration<double, std::milli>(t1 - t0).count() << " ms\n";
 }
 
-int info(const std::vector<std::string>& argv) {
-  const mccd::cli::Args args(argv, {}, {});
-  if (args.positional().empty()) throw mccd::Error("usage: mccd info FILE...");
+int info(const std::vector<std::string>& paths) {
   // Every file is reported; a file that fails does not stop the others, but the status is 2.
-  int status = 0;
-  for (const std::string& path : args.positional()) {
+  int status = mccd::cli::kExitClean;
+  for (const std::string& path : paths) {
     try {
       print_info(path);
     } catch (const std::exception& e) {
       std::cout.flush();
       std::cerr << "mccd info: error: " << e.what() << "\n";
-      status = 2;
+      status = mccd::cli::kExitUsage;
     }
   }
   return status;
 }
 
-const mccd::cli::Command reg("info", "info FILE...",
-                             "print vertex, triangle and edge counts, defects and bounds of mesh files (.ply, .obj)",
-                             info);
+const mccd::cli::Command reg("info", "print vertex, triangle and edge counts, defects and bounds of mesh files", 30,
+                             [](CLI::App& app) -> mccd::cli::Runner {
+                               auto paths = std::make_shared<std::vector<std::string>>();
+                               app.add_option("FILE", *paths, "mesh files (.ply ascii or binary, .obj)")
+                                   ->required()
+                                   ->type_name("FILE");
+                               app.footer("Prints per file: vertices, triangles, unique edges, boundary and "
+                                          "non-manifold edges, zero-area triangles, bounding box, load time.\n"
+                                          "Exit status: 0 every file read, 2 usage error or any file unreadable "
+                                          "(the others are still reported).");
+                               return [paths] { return info(*paths); };
+                             });
 
 }  // namespace

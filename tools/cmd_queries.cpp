@@ -8,10 +8,13 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 
-#include "args.h"
+#include <CLI/App.hpp>
+
 #include "command.h"
+#include "options.h"
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/query_io.h>
@@ -47,20 +50,23 @@ bool kind_of(const fs::path& file, const std::string& forced, Kind& kind) {
   return false;
 }
 
-int queries(const std::vector<std::string>& argv) {
-  mccd::cli::Args args(argv, {"kind", "truth", "min-distance", "repeat"}, {"verbose"});
-  if (args.positional().empty()) throw Error("usage: mccd queries PATH... [--kind vf|ee] [--truth FILE.json] [--min-distance D]");
-  const std::string forced = args.get("kind");
-  if (!forced.empty() && forced != "vf" && forced != "ee") throw Error("--kind must be vf or ee, got '" + forced + "'");
+struct QueryOptions {
+  std::vector<std::string> paths;
+  std::string kind, truth;
+  double min_distance = 0.0;
+  int repeat = 5;
+  bool verbose = false;
+};
+
+int queries(const QueryOptions& args) {
+  const std::string forced = args.kind;
   mccd::CcdOptions options;
-  options.min_distance = args.get_double("min-distance", 0.0);
-  if (!(options.min_distance >= 0)) throw Error("--min-distance must be >= 0");
-  const long repeat = args.get_int("repeat", 5);
-  if (repeat < 1) throw Error("--repeat must be >= 1");
-  const bool verbose = args.has("verbose");
+  options.min_distance = args.min_distance;
+  const long repeat = args.repeat;
+  const bool verbose = args.verbose;
 
   std::vector<fs::path> files;
-  for (const std::string& p : args.positional()) {
+  for (const std::string& p : args.paths) {
     if (fs::is_directory(p)) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::recursive_directory_iterator(p))
@@ -73,10 +79,11 @@ int queries(const std::vector<std::string>& argv) {
       throw Error(p + ": no such file or directory");
     }
   }
+  if (files.empty()) throw Error(args.paths.front() + ": no .csv query files found");
   std::vector<bool> truth_json;
   bool have_json = false;
-  if (args.has("truth")) {
-    const std::string tp = args.get("truth");
+  if (!args.truth.empty()) {
+    const std::string tp = args.truth;
     std::ifstream in(tp);
     if (!in) throw Error(tp + ": cannot open");
     nlohmann::json j;
@@ -105,7 +112,7 @@ int queries(const std::vector<std::string>& argv) {
     for (const auto& q : sets.back().second) without_truth += q.truth < 0;
   }
   if (have_json && truth_json.size() != without_truth)
-    throw Error(args.get("truth") + ": has " + std::to_string(truth_json.size()) + " entries for " +
+    throw Error(args.truth + ": has " + std::to_string(truth_json.size()) + " entries for " +
                 std::to_string(without_truth) + " queries without ground truth");
 
   std::map<Kind, Stats> stats;
@@ -165,8 +172,32 @@ int queries(const std::vector<std::string>& argv) {
   return any_fn ? 1 : 0;
 }
 
-const mccd::cli::Command reg("queries", "queries PATH... [--kind vf|ee] [--truth FILE.json] [--min-distance D] [--repeat N] [--verbose]",
-                             "run the elementary CCD tests on benchmark query files (CSV) and compare with the ground truth",
-                             queries);
+const mccd::cli::Command reg(
+    "queries", "run the elementary CCD tests on benchmark query files (CSV) and compare with their ground truth", 50,
+    [](CLI::App& app) -> mccd::cli::Runner {
+      auto o = std::make_shared<QueryOptions>();
+      app.add_option("PATH", o->paths,
+                     "query CSV files (8 rows per query, 7 columns: x, y, z as numerator/denominator, truth) "
+                     "or folders, searched recursively for .csv files")
+          ->required()
+          ->type_name("PATH");
+      app.add_option("--kind", o->kind,
+                     "vf or ee for every file; default: from a folder named vertex-face / edge-edge, else from "
+                     "vf / ee in the file name")
+          ->type_name("KIND")
+          ->check(CLI::IsMember({"vf", "ee"}));
+      app.add_option("--truth", o->truth,
+                     "a JSON array of booleans, the ground truth of the queries whose CSV truth column is "
+                     "missing, in file order")
+          ->type_name("FILE.json");
+      mccd::cli::add_min_distance_option(app, o->min_distance);
+      app.add_option("--repeat", o->repeat, "time each query this many times and keep the fastest, 1 to 1000 (default 5)")
+          ->type_name("N")
+          ->check(mccd::cli::integer_in(1, 1000));
+      app.add_flag("--verbose", o->verbose, "also list every false positive on stderr");
+      app.footer("Exit status: 0 no false negative, 1 any false negative (each is listed on stderr), 2 usage or "
+                 "input error. Times are the fastest of --repeat runs, steady_clock around one call.");
+      return [o] { return queries(*o); };
+    });
 
 }  // namespace

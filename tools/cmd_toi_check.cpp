@@ -4,15 +4,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <unordered_set>
 
-#include <oneapi/tbb/info.h>
+#include <CLI/App.hpp>
 
-#include "args.h"
 #include "command.h"
+#include "options.h"
 #include <mccd/core/orphans.h>
 #include <mccd/core/scene.h>
+#include <mccd/geometry/error.h>
 #include <mccd/geometry/mesh_io.h>
 
 namespace {
@@ -56,7 +58,8 @@ std::vector<std::uint64_t> true_pairs(const fs::path& boxes, const fs::path& tru
 }
 
 fs::path find_one(const fs::path& dir, const std::string& suffix) {
-  if (!fs::is_directory(dir)) throw Error(dir.string() + ": no such folder");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(dir.string() + ": no such folder");
   std::vector<fs::path> hits;
   for (auto& e : fs::directory_iterator(dir))
     if (e.path().filename().string().size() >= suffix.size() &&
@@ -67,34 +70,53 @@ fs::path find_one(const fs::path& dir, const std::string& suffix) {
   return hits[0];
 }
 
-int toi_check(const std::vector<std::string>& args) {
-  cli::Args a(args, {"method", "min-distance", "threads"}, {});
-  if (a.positional().size() != 1) throw Error("usage: mccd toi-check DIR [--method ...]");
-  const fs::path dir = a.positional()[0];
-  const Method method = parse_method(a.get("method", "fbd").c_str());
+struct ToiOptions {
+  std::string dir;
+  Method method = Method::Fbd;
+  double min_distance = 0.0;
+  int threads = 1;
+};
+
+/// The two .ply frames of a scene folder, refused with a message naming the folder when the
+/// layout is not there.
+std::vector<std::string> scene_frames(const fs::path& dir) {
+  const char* layout = " (a Time-of-Impact scene folder holds frames/, boxes/ and mma_bool/)";
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) throw Error(dir.string() + ": no such folder");
+  if (!fs::is_directory(dir, ec)) throw Error(dir.string() + ": not a folder" + layout);
+  const fs::path frames_dir = dir / "frames";
+  if (!fs::is_directory(frames_dir, ec)) throw Error(frames_dir.string() + ": no such folder" + layout);
   std::vector<std::string> frames;
-  for (auto& e : fs::directory_iterator(dir / "frames"))
-    if (e.path().extension() == ".ply") frames.push_back(e.path().string());
+  for (fs::directory_iterator it(frames_dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".ply") frames.push_back(it->path().string());
+  if (ec) throw Error(frames_dir.string() + ": cannot list: " + ec.message());
   std::sort(frames.begin(), frames.end());
   if (frames.size() != 2)
-    throw Error((dir / "frames").string() + ": expected two .ply frames, found " + std::to_string(frames.size()));
+    throw Error(frames_dir.string() + ": expected two .ply frames, found " + std::to_string(frames.size()));
+  return frames;
+}
+
+int toi_check(const ToiOptions& a) {
+  const fs::path dir = a.dir;
+  const Method method = a.method;
+  const std::vector<std::string> frames = scene_frames(dir);
+  // the truth first: a scene folder without it is refused before any work
+  std::size_t listed_vf = 0, listed_ee = 0;
+  const auto vf_true = true_pairs(find_one(dir / "boxes", "vf.json"), find_one(dir / "mma_bool", "vf_mma_bool.json"), listed_vf);
+  const auto ee_true = true_pairs(find_one(dir / "boxes", "ee.json"), find_one(dir / "mma_bool", "ee_mma_bool.json"), listed_ee);
   FrameSequence seq = read_frames(frames);
   const std::size_t nv = seq.mesh.num_vertices();
   SceneOptions opt;
-  opt.min_distance = a.get_double("min-distance", 0.0);
-  const long threads = a.get_int("threads", tbb::info::default_concurrency());
-  if (threads < 1) throw Error("--threads must be at least 1");
+  cli::check_min_distance(a.min_distance, {seq.frames[0]});
+  opt.min_distance = a.min_distance;
+  const int threads = a.threads;
   tbb::task_arena arena(static_cast<int>(threads));
   opt.arena = &arena;
   Scene scene({seq.mesh}, opt);
   const std::size_t ne = scene.topology().num_edges();
-  std::printf("%s: %zu vertices, %zu triangles, %zu edges; step %s -> %s, method %s, %ld threads\n", dir.string().c_str(), nv,
+  std::printf("%s: %zu vertices, %zu triangles, %zu edges; step %s -> %s, method %s, %d threads\n", dir.string().c_str(), nv,
               seq.mesh.num_faces(), ne, fs::path(frames[0]).filename().c_str(), fs::path(frames[1]).filename().c_str(),
               to_string(method), threads);
-
-  std::size_t listed_vf = 0, listed_ee = 0;
-  const auto vf_true = true_pairs(find_one(dir / "boxes", "vf.json"), find_one(dir / "mma_bool", "vf_mma_bool.json"), listed_vf);
-  const auto ee_true = true_pairs(find_one(dir / "boxes", "ee.json"), find_one(dir / "mma_bool", "ee_mma_bool.json"), listed_ee);
 
   StepResult r = scene.step(seq.frames[0], seq.frames[1], method);
   std::unordered_set<std::uint64_t> got_vf, got_ee;
@@ -151,7 +173,22 @@ int toi_check(const std::vector<std::string>& args) {
   return missed ? 1 : 0;
 }
 
-const cli::Command reg("toi-check", "toi-check DIR [--method bruteforce|traverse|phc|fbd] [--min-distance D] [--threads N]",
-                       "runs one step of a Time-of-Impact data set scene and checks every true pair is reported",
-                       toi_check);
+const cli::Command reg(
+    "toi-check", "run one step of a Time-of-Impact data set scene and check that every true pair is reported", 40,
+    [](CLI::App& app) -> cli::Runner {
+      auto o = std::make_shared<ToiOptions>();
+      app.add_option("DIR", o->dir,
+                     "a scene folder: frames/ (the two .ply frames of the step), boxes/ (*vf.json, *ee.json: "
+                     "listed pairs) and mma_bool/ (*vf_mma_bool.json, *ee_mma_bool.json: their exact truth)")
+          ->required()
+          ->type_name("DIR");
+      cli::add_method_option(app, o->method);
+      cli::add_min_distance_option(app, o->min_distance, "; at most 1% of the scene's bounding-box diagonal");
+      cli::add_threads_option(app, o->threads);
+      app.footer("Prints, per kind, the listed and true pairs and how many were found, missed and reported "
+                 "beyond the list; the volume, feature-box and elementary test counts; the orphan set and front; "
+                 "and the step's time as 'time <seconds> s (update, refit, front, orphans)'.\n"
+                 "Exit status: 0 every true pair found, 1 any true pair missed, 2 usage or input error.");
+      return [o] { return toi_check(*o); };
+    });
 }  // namespace

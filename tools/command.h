@@ -1,28 +1,37 @@
 #pragma once
 /// @file Sub-command registry of the `mccd` tool. Each command lives in its own file and
-/// registers itself with a static `Command` object.
+/// registers itself with a static `Command` object; main builds the CLI11 application from
+/// the registry, parses, and runs the chosen command.
 #include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace mccd::cli {
 
-/// A command gets its arguments (without the program and command names) and returns the
-/// process exit status. It may throw; main prints the message and exits with status 2.
-using CommandFn = std::function<int(const std::vector<std::string>& args)>;
+/// Runs a command with the values parsed into it; returns the process exit status. It may
+/// throw: main prints the message on one line and exits with status 2.
+using Runner = std::function<int()>;
+/// Declares a command's options and positionals on `app` (the command's own CLI11 sub-app,
+/// whose description is already set) and returns the function that runs it.
+using Setup = std::function<Runner(CLI::App& app)>;
 
 struct CommandInfo {
-  CommandFn run;
-  std::string usage;    ///< one line: "info FILE..."
-  std::string summary;  ///< one line of help
+  std::string name;     ///< "run"
+  std::string summary;  ///< one line for `mccd --help`
+  int order;            ///< position in `mccd --help` (smaller first)
+  Setup setup;
 };
 
-std::map<std::string, CommandInfo>& registry();
+/// Every registered command, in registration order (main sorts them by `order`).
+std::vector<CommandInfo>& registry();
 
 struct Command {
-  Command(const std::string& name, std::string usage, std::string summary, CommandFn fn) {
-    registry()[name] = CommandInfo{std::move(fn), std::move(usage), std::move(summary)};
+  Command(std::string name, std::string summary, int order, Setup setup) {
+    registry().push_back(CommandInfo{std::move(name), std::move(summary), order, std::move(setup)});
   }
 };
 

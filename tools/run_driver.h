@@ -1,0 +1,56 @@
+#pragma once
+/// @file The engine of `mccd run` and `mccd demo`: a sequence of frames stepped through the
+/// frame pipeline, with the table, the progress bar, the streamed output files, the exit
+/// status, and the picture of the first contact.
+///
+/// Order of work: the scene is built and every option checked before any file is opened; the
+/// frames are then read ahead, stepped and written in frame order (parallel/frame_pipeline.h);
+/// each finished sub-step goes to the files and each finished step to the table. A frame that
+/// cannot be read ends the sequence there: every step before it is kept (the files marked
+/// incomplete, or removed, as --partial says) and the run exits with status 2. SIGINT and
+/// SIGTERM do the same from the interrupt watcher (interrupt.h). The picture is drawn after
+/// the last step, from the two frames around the chosen step, read again.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <mccd/core/options.h>
+#include <mccd/geometry/mesh.h>
+
+#include "run_files.h"
+
+namespace mccd::cli {
+
+/// What is run: meshes (triangles, and the positions of frame 0) and a way to get frame i.
+struct RunInput {
+  std::string description;  ///< "cloth_ball92.ply .. cloth_ball93.ply", "built-in scene cloth"
+  std::vector<TriMesh> meshes;
+  std::size_t frames = 0;   ///< at least 2
+  /// The positions of frame i (one array per mesh), 0 <= i < frames. May throw mccd::Error
+  /// naming the file and the frame.
+  std::function<std::vector<Positions>(std::size_t i)> frame;
+};
+
+/// How it is run and what it writes (the options of `mccd run`).
+struct RunSettings {
+  SceneOptions scene;  ///< method, volume, rebuild ratios, minimum distance (the arena is set here)
+  int substeps = 1;
+  int threads = 1;
+  bool quiet = false, verbose = false, exit_zero = false;
+  std::string contacts, stats;  ///< output files ("" for none)
+  Partial partial = Partial::Keep;
+  std::string image, colored;   ///< picture and coloured mesh ("" for none)
+  std::optional<std::size_t> image_step;
+  int image_width = 1200, image_height = 900;
+  std::string camera;           ///< "EX,EY,EZ[,TX,TY,TZ[,UX,UY,UZ]]" or "" for automatic
+  std::optional<Vec3> up;       ///< the scene's up direction when known (else guessed, see up_axis())
+};
+
+/// Runs `input` with `settings`; prints the table (unless quiet) and the summary. Returns the
+/// exit status: 0 no contact, 1 contacts found (0 with exit_zero). Throws mccd::Error (status
+/// 2) for refused input, after keeping or removing the files of the finished steps.
+/// `command` names the command in messages ("mccd run").
+int run_frames(const RunInput& input, const RunSettings& settings, const std::string& command);
+
+}  // namespace mccd::cli

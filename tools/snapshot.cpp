@@ -1,0 +1,102 @@
+#include "snapshot.h"
+
+#include <algorithm>
+
+#include <mccd/geometry/mesh_io.h>
+
+#include "render/render.h"
+
+namespace mccd::cli {
+
+namespace {
+
+/// The faces around each vertex of one mesh, as offsets into one list (CSR).
+struct VertexFaces {
+  std::vector<std::uint32_t> start, faces;
+  explicit VertexFaces(const TriMesh& m) : start(m.num_vertices() + 1, 0) {
+    for (const Triangle& t : m.faces)
+      for (std::uint32_t v : t) ++start[v + 1];
+    for (std::size_t v = 0; v < m.num_vertices(); ++v) start[v + 1] += start[v];
+    faces.resize(start.back());
+    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+      for (std::uint32_t v : m.faces[f]) faces[at[v]++] = std::uint32_t(f);
+  }
+  template <class F>
+  void each(std::uint32_t v, F&& f) const {
+    for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) f(faces[i]);
+  }
+};
+
+}  // namespace
+
+void SnapshotPicker::offer(std::size_t step, std::size_t substep, const StepResult& r) {
+  if (chosen_ && !(wanted_ && chosen_->step == *wanted_ && chosen_->contacts.empty())) return;
+  if (wanted_ && step != *wanted_) return;
+  if (r.contacts.empty()) {
+    if (wanted_ && !chosen_) chosen_ = Snapshot{step, 0, substeps_, 0.0, {}};  // the step's start, unless a contact comes
+    return;
+  }
+  chosen_ = Snapshot{step, substep, substeps_, r.earliest_toi, r.contacts};
+}
+
+std::vector<ViewMesh> snapshot_view(const std::vector<TriMesh>& meshes, const std::vector<Positions>& start,
+                                    const std::vector<Positions>& end, const Snapshot& snap) {
+  const double u = (double(snap.substep) + snap.t) / double(snap.substeps);
+  std::vector<ViewMesh> view(meshes.size());
+  std::vector<VertexFaces> around;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    view[m].faces = meshes[m].faces;
+    view[m].positions = start[m];
+    view[m].positions.mat() = (1 - u) * start[m].mat() + u * end[m].mat();
+    view[m].highlight.assign(meshes[m].faces.size(), 0);
+    around.emplace_back(meshes[m]);
+  }
+  auto edge_faces = [&](std::uint32_t mesh, const std::array<std::uint32_t, 2>& e) {
+    around[mesh].each(e[0], [&](std::uint32_t f) {
+      const Triangle& t = meshes[mesh].faces[f];
+      if (std::find(t.begin(), t.end(), e[1]) != t.end()) view[mesh].highlight[f] = 1;
+    });
+  };
+  for (const Contact& c : snap.contacts) {
+    if (c.kind == ContactKind::VertexFace) {
+      view[c.mesh_b].highlight[c.b] = 1;
+      around[c.mesh_a].each(c.a, [&](std::uint32_t f) { view[c.mesh_a].highlight[f] = 1; });
+    } else {
+      edge_faces(c.mesh_a, c.a_vertices);
+      edge_faces(c.mesh_b, c.b_vertices);
+    }
+  }
+  return view;
+}
+
+std::size_t highlighted_faces(const std::vector<ViewMesh>& view) {
+  std::size_t n = 0;
+  for (const ViewMesh& m : view) n += std::size_t(std::count(m.highlight.begin(), m.highlight.end(), 1));
+  return n;
+}
+
+Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera) {
+  const Camera cam = frame_highlight(view, double(width) / double(height), camera);
+  return render(view, cam, width, height);
+}
+
+void write_snapshot_ply(const std::string& path, const std::vector<ViewMesh>& view) {
+  static const std::array<std::uint8_t, 3> kLit{230, 30, 20};
+  static const std::array<std::array<std::uint8_t, 3>, 4> kPalette{{{184, 199, 219}, {219, 204, 163}, {178, 214, 184}, {214, 189, 214}}};
+  TriMesh all;
+  all.name = path;
+  FaceColors colours;
+  for (std::size_t m = 0; m < view.size(); ++m) {
+    const auto offset = std::uint32_t(all.vertices.rows());
+    all.vertices.xyz().insert(all.vertices.xyz().end(), view[m].positions.xyz().begin(), view[m].positions.xyz().end());
+    for (std::size_t f = 0; f < view[m].faces.size(); ++f) {
+      const Triangle& t = view[m].faces[f];
+      all.faces.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+      colours.push_back(view[m].highlight[f] ? kLit : kPalette[m % kPalette.size()]);
+    }
+  }
+  write_ply(path, all, colours);
+}
+
+}  // namespace mccd::cli
