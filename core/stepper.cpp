@@ -35,10 +35,15 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
   swept_.resize(topo);
-  // Every volume once at the initial positions: the static meshes' stay as they are.
-  const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
-  update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
-  refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
+  // With static meshes, every volume once at the initial positions: the static meshes' stay
+  // as they are (the others are recomputed by every step).
+  bool any_static = false;
+  for (std::size_t m = 0; m < scene.num_meshes(); ++m) any_static = any_static || scene.mesh_options(m).is_static;
+  if (any_static) {
+    const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
+    update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
+    refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
+  }
   for (std::uint32_t i = 0; i < bvh_.size(); ++i)
     if (bvh_.leaf(i)) {
       const std::uint32_t* t = bvh_.leaf_triangles(i);

@@ -78,21 +78,25 @@ class SweptVolumes {
     for (std::size_t v = begin; v != end; ++v) {
       const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
       const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
-      BV d = BV::empty();
-      d.add_point(a);
-      d.add_point(b);
-      if (min_distance > 0) d.inflate(min_distance);
-      vertex_[v] = d;
       // Pieces of the path, between computed points a + (k/4) (b - a). Those points and their
       // projections carry rounding errors relative to the coordinates (not to the
       // projections), so each piece is inflated by 2^-48 of the largest coordinate, far above
-      // those errors, on top of the outward float rounding.
+      // those errors, on top of the outward float rounding. Each point is projected and
+      // rounded once; the volumes are merges of those (the same bounds as adding the points).
       const Vec3 step = b - a;
       const Vec3 pts[5] = {a, a + 0.25 * step, a + 0.5 * step, a + 0.75 * step, b};
-      const double margin = std::ldexp(std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), -48) + min_distance;
+      BV at[5];
+      for (int k = 0; k < 5; ++k) {
+        at[k] = BV::empty();
+        at[k].add_point(pts[k]);
+      }
+      BV d = BV::merged(at[0], at[4]);
+      if (min_distance > 0) d.inflate(min_distance);
+      vertex_[v] = d;
+      const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
       auto piece = [&](int from, int to) {
-        BV h = BV::empty();
-        for (int k = from; k <= to; ++k) h.add_point(pts[k]);
+        BV h = at[from];
+        for (int k = from + 1; k <= to; ++k) h.merge(at[k]);
         h.inflate(margin);
         return h;
       };
