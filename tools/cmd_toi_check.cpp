@@ -75,6 +75,9 @@ struct ToiOptions {
   Method method = Method::Fbd;
   double min_distance = 0.0;
   int threads = 1;
+  BvhBuild bvh = BvhBuild::Sah;
+  unsigned leaf_size = 0;
+  bool static_orphans = false;
 };
 
 /// The two .ply frames of a scene folder, refused with a message naming the folder when the
@@ -109,6 +112,8 @@ int toi_check(const ToiOptions& a) {
   SceneOptions opt;
   cli::check_min_distance(a.min_distance, {seq.frames[0]});
   opt.min_distance = a.min_distance;
+  opt.bvh = a.bvh;
+  opt.leaf_size = a.leaf_size;
   const int threads = a.threads;
   tbb::task_arena arena(static_cast<int>(threads));
   opt.arena = &arena;
@@ -151,17 +156,23 @@ int toi_check(const ToiOptions& a) {
   const KindReport vf = report("vertex-face", listed_vf, vf_true, got_vf);
   const KindReport ee = report("edge-edge  ", listed_ee, ee_true, got_ee);
   const StepStats& s = r.stats;
-  std::printf("  volume tests %llu (overlapping non-adjacent leaf pairs %llu), feature box tests %llu\n",
-              (unsigned long long)s.volume_tests, (unsigned long long)s.leaf_pairs,
-              (unsigned long long)s.feature_box_tests);
-  std::printf("  elementary tests called: VF %llu, EE %llu; past their box and coplanarity filters: VF %llu, EE %llu\n",
-              (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests, (unsigned long long)s.vf_ccd.root_tests,
-              (unsigned long long)s.ee_ccd.root_tests);
+  std::printf("  volume tests %llu, triangle-pair tests inside leaf pairs %llu (overlapping non-adjacent triangle pairs "
+              "%llu), feature box tests %llu, removed by the coplanarity filter: VF %llu, EE %llu\n",
+              (unsigned long long)s.volume_tests, (unsigned long long)s.triangle_tests,
+              (unsigned long long)s.leaf_pairs, (unsigned long long)s.feature_box_tests,
+              (unsigned long long)s.vf_filtered, (unsigned long long)s.ee_filtered);
+  std::printf("  elementary tests called: VF %llu, EE %llu (%.2f per true pair found); past their box and coplanarity "
+              "filters: VF %llu, EE %llu\n",
+              (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests,
+              double(s.vf_tests + s.ee_tests) / double(std::max<std::size_t>(vf.found + ee.found, 1)),
+              (unsigned long long)s.vf_ccd.root_tests, (unsigned long long)s.ee_ccd.root_tests);
   std::printf("  orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); earliest toi %.9g\n",
               scene.orphan_vf_count(), scene.orphan_ee_count(), (unsigned long long)s.orphan_vf_tested,
               (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
-  const detail::StaticOrphanCounts so = detail::static_orphan_counts(scene.topology());
-  std::printf("  (a static first-triangle assignment would leave %zu VF + %zu EE orphan pairs)\n", so.vf, so.ee);
+  if (a.static_orphans) {
+    const detail::StaticOrphanCounts so = detail::static_orphan_counts(scene.topology());
+    std::printf("  (a static first-triangle assignment would leave %zu VF + %zu EE orphan pairs)\n", so.vf, so.ee);
+  }
   if (method == Method::Fbd)
     std::printf("  front %llu nodes (%.1f MB); the orphan set keeps %llu adjacent leaf pairs out of it (%.1f%% shorter)\n",
                 (unsigned long long)s.front_size, s.front_bytes / 1e6, (unsigned long long)s.adjacent_leaf_pairs,
@@ -185,6 +196,10 @@ const cli::Command reg(
       cli::add_method_option(app, o->method);
       cli::add_min_distance_option(app, o->min_distance, "; at most 1% of the scene's bounding-box diagonal");
       cli::add_threads_option(app, o->threads);
+      cli::add_bvh_options(app, o->bvh, o->leaf_size);
+      app.add_flag("--static-orphans", o->static_orphans,
+                   "also count the orphan pairs a static (first-triangle) representative rule would leave, for "
+                   "comparison with the canonical rule (takes a while on large scenes)");
       app.footer("Prints, per kind, the listed and true pairs and how many were found, missed and reported "
                  "beyond the list; the volume, feature-box and elementary test counts; the orphan set and front; "
                  "and the step's time as 'time <seconds> s (update, refit, front, orphans)'.\n"

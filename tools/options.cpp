@@ -63,6 +63,19 @@ CLI::Validator number_in(double lo, double hi, bool lo_open) {
       "");
 }
 
+void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size) {
+  app.add_option_function<std::string>(
+         "--bvh", [&bvh](const std::string& v) { bvh = parse_bvh_build(v.c_str()); },
+         "how the scene BVH is built: sah (binned surface area heuristic, default) or median (the paper's "
+         "spatial median, one triangle per leaf: reproduces its experiments)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"median", "sah"}));
+  app.add_option("--leaf-size", leaf_size,
+                 "triangles per BVH leaf, 1 to 4 (default: 4 with sah, 1 with median)")
+      ->type_name("K")
+      ->check(integer_in(1, 4));
+}
+
 CLI::Option* add_method_option(CLI::App& app, Method& method) {
   auto* opt = app.add_option_function<std::string>(
       "--method", [&method](const std::string& s) { method = parse_method(s.c_str()); },
