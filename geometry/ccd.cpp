@@ -4,7 +4,7 @@
 #include <mccd/geometry/ccd.h>
 
 #include <mccd/geometry/ccd_detail.h>
-#include <mccd/geometry/ccd_search.h>
+#include <mccd/geometry/ccd_fast.h>
 
 namespace mccd {
 namespace detail {
@@ -38,7 +38,8 @@ bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distan
   return definite_sign(S.f, S.ef + S.dN) == 0;
 }
 
-bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
+bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters,
+             CcdPath path) {
   if (counters) ++counters->queries;
   const double d = options.min_distance > 0 ? options.min_distance : 0.0;
   if (!ccd_box_overlap(kind, p, d)) {
@@ -65,6 +66,18 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     return false;
   }
   if (counters) ++counters->root_tests;
+  if (!(d > 0) && path == CcdPath::Fast) {
+    const Fast r = kind == CcdKind::VertexFace ? fast_decide<KindOps<CcdKind::VertexFace>>(S, toi)
+                                               : fast_decide<KindOps<CcdKind::EdgeEdge>>(S, toi);
+    if (r == Fast::Hit) {
+      if (counters) ++counters->fast_hits, ++counters->hits;
+      return true;
+    }
+    if (r == Fast::Miss) {
+      if (counters) ++counters->fast_misses;
+      return false;
+    }
+  }
   double t = 0;
   Piece<double> root;
   root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
@@ -86,6 +99,7 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   lp.root_d = &root;
   lp.ng_d = ng;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
+  if (counters) counters->pieces += (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.budget);
   if (r == Outcome::Miss) return false;
   toi = t;
   if (counters) ++counters->hits;

@@ -96,6 +96,9 @@ struct CcdCounters {
   std::uint64_t root_tests = 0;       ///< reached root isolation and the inside test
   std::uint64_t fallbacks = 0;        ///< undecided by the float bounds: exact / conservative path
   std::uint64_t hits = 0;
+  std::uint64_t fast_hits = 0;        ///< contacts certified by the fast path (no search)
+  std::uint64_t fast_misses = 0;      ///< pairs past the filters cleared by the fast path
+  std::uint64_t pieces = 0;           ///< time pieces visited by the search (both passes)
 };
 
 /// Vertex-face CCD. Returns true when the vertex may touch the triangle at some t in [0, 1];

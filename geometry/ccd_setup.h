@@ -75,6 +75,16 @@ struct Piece {
   T eg[4];
 };
 
+// The cubic and the inside functions at one instant (the fast path, geometry/ccd_fast.h),
+// computed from the difference vectors interpolated to that instant. `ef` bounds the error of
+// f (the same bound as the Bernstein coefficients of stage (b)); the inside functions' bounds
+// come from magnitudes fixed per query (`inside_magnitudes` of each kind).
+template <class T>
+struct Snap {
+  T f;
+  T g[4];
+};
+
 // Closest point to p on segment [a, b] (any point is fine for soundness).
 template <class T>
 inline V3<T> closest_on_segment(V3<T> p, V3<T> a, V3<T> b) {

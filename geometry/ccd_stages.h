@@ -33,6 +33,26 @@ void coplanarity(Setup<T>& S) {
   if (S.d > 0) S.dN = S.d * (vf ? vertex_face::normal_bound(S) : edge_edge::normal_bound(S)) * (1 + 16 * u);
 }
 
+/// The per-kind functions of the fast path (geometry/ccd_fast.h) as a type, so that it is
+/// compiled once per kind with no run-time dispatch.
+template <CcdKind K>
+struct KindOps {
+  template <class T>
+  static void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
+    if constexpr (K == CcdKind::VertexFace)
+      vertex_face::snapshot(S, tau, out);
+    else
+      edge_edge::snapshot(S, tau, out);
+  }
+  template <class T>
+  static int inside_magnitudes(const Setup<T>& S, T (&M)[4]) {
+    if constexpr (K == CcdKind::VertexFace)
+      return vertex_face::inside_magnitudes(S, M);
+    else
+      return edge_edge::inside_magnitudes(S, M);
+  }
+};
+
 /// Computes the inside functions on [0, 1] and, for every polynomial of stage (c) (the cubic
 /// included), an error bound from its magnitude expression: gamma_k times the same expression
 /// on absolute values (k roundings at most: 9 for the cubic, 12 for the quartics; we take

@@ -56,6 +56,40 @@ int inside(const Setup<T>& S, Piece<T>& P, QuadV<T>& aX) {
   return 3;
 }
 
+/// The cubic and the inside functions at the instant tau (a multiple of 2^-53 in [0, 1], so
+/// that 1 - tau is exact), from the difference vectors interpolated to tau:
+/// A(tau) = (1 - tau) A0 + tau A1 (and B, C), X = B x C, Y = C x A, Z = A x B, n = X + Y + Z,
+/// f = A . X, g = n . X, n . Y, n . Z.
+/// Error (geometry/ccd_fast.h has the argument): every term of A(tau) carries at most 3
+/// roundings (the difference of two inputs, the product, the sum), a cross product component
+/// 3 + 3 + 2, n 10, f 3 + 8 + 1 + 2 = 14 and g 10 + 8 + 1 + 2 = 21; the magnitudes, taken
+/// with every coordinate at its largest absolute value over t in [0, 1] (alpha, beta, gamma
+/// for A, B, C), are 6 alpha beta gamma for f (within S.ef = 96 u alpha beta gamma) and the
+/// bounds of `inside_magnitudes` for g.
+template <class T>
+void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
+  const T t1 = 1 - tau;
+  const V3<T> A = S.A0 * t1 + S.A1 * tau, B = S.B0 * t1 + S.B1 * tau, C = S.C0 * t1 + S.C1 * tau;
+  const V3<T> X = cross(B, C), Y = cross(C, A), Z = cross(A, B);
+  const V3<T> n = X + Y + Z;
+  out.f = dot(A, X);
+  out.g[0] = dot(n, X), out.g[1] = dot(n, Y), out.g[2] = dot(n, Z);
+}
+
+/// Bounds M_i on the magnitude expression of g_i at every instant of [0, 1], and on the
+/// absolute values of its Bernstein coefficients over [0, 1]: with every component of B x C
+/// at most 2 beta gamma (and so on), |n| componentwise at most 2 (bg + ga + ab), and a dot
+/// product of three components, M_0 = 12 (bg + ga + ab) bg, M_1 = ... ga, M_2 = ... ab.
+/// (A Bernstein coefficient of a product is a convex combination of products of the
+/// factors' coefficients, so the same bound holds for them.) Returns 3.
+template <class T>
+int inside_magnitudes(const Setup<T>& S, T (&M)[4]) {
+  const T bg = S.beta * S.gamma, ga = S.gamma * S.alpha, ab = S.alpha * S.beta;
+  const T s2 = 12 * (bg + ga + ab);
+  M[0] = s2 * bg, M[1] = s2 * ga, M[2] = s2 * ab, M[3] = 0;
+  return 3;
+}
+
 /// From the closest point of the face (at the positions P) to the vertex.
 template <class T>
 V3<T> closest_direction(const V3<T> (&P)[4]) {

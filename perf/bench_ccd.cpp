@@ -1,11 +1,13 @@
 // Elementary CCD benchmark: nanoseconds per call of each stage, and of the whole test, on the
 // benchmark sample queries and, optionally, on the feature pairs of one real step.
 //   bench_ccd [DATA_DIR/sample-queries] [--runs N] [--step TOI_DIR] [--min-distance D]
+//             [--only SET_PREFIX] [--limit N]
 // --step loads a Time-of-Impact step (TOI_DIR/frames/*.ply, two frames; boxes/*{vf,ee}.json)
 // and times two sets of pairs per kind: the pairs listed in boxes/ (nearly all true contacts)
 // and every non-adjacent pair whose swept axis-aligned boxes overlap (what a broad phase hands
 // the elementary tests: mostly pairs that do not collide; an evenly spaced subset).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -167,25 +169,47 @@ void load_step(const fs::path& dir, std::vector<QuerySet>& sets) {
   for (QuerySet* q : {&lvf, &lee, &bvf, &bee}) sets.push_back(std::move(*q));
 }
 
-bool run(CcdKind kind, const CcdPoints& p, double& toi, const mccd::CcdOptions& o, mccd::CcdCounters* c) {
-  return mccd::detail::ccd_run(kind, p, toi, o, c);
+using mccd::detail::CcdPath;
+
+bool run(CcdKind kind, const CcdPoints& p, double& toi, const mccd::CcdOptions& o, mccd::CcdCounters* c,
+         CcdPath path) {
+  return mccd::detail::ccd_run(kind, p, toi, o, c, path);
+}
+
+// Medians of the two paths' ns per query over `queries`, the runs alternating between them.
+std::array<double, 2> median_both(int runs, const std::vector<CcdPoints>& queries, CcdKind kind,
+                                  const mccd::CcdOptions& opt) {
+  std::vector<double> t[2];
+  for (int r = 0; r < runs; ++r)
+    for (int k = 0; k < 2; ++k) {
+      const CcdPath path = k == 0 ? CcdPath::SearchOnly : CcdPath::Fast;
+      t[k].push_back(median_ns_per_item(1, queries.size(), [&] {
+        int s = 0;
+        double toi;
+        for (const auto& p : queries) s += run(kind, p, toi, opt, nullptr, path);
+        sink = sink + s;
+      }));
+    }
+  for (auto& v : t) std::sort(v.begin(), v.end());
+  return {t[0].empty() ? 0 : t[0][t[0].size() / 2], t[1].empty() ? 0 : t[1][t[1].size() / 2]};
 }
 
 void bench(const QuerySet& set, int runs, const mccd::CcdOptions& opt) {
   const CcdKind kind = set.kind;
   const auto& all = set.q;
   std::vector<CcdPoints> after_box, after_cop;
-  mccd::CcdCounters c;
-  double toi_sum = 0;
   for (const auto& p : all) {
     if (!mccd::detail::ccd_box_overlap(kind, p, opt.min_distance)) continue;
     after_box.push_back(p);
     if (mccd::detail::ccd_coplanarity_may_hit(kind, p, opt.min_distance)) after_cop.push_back(p);
   }
-  for (const auto& p : all) {
-    double toi = 0;
-    if (run(kind, p, toi, opt, &c)) toi_sum += toi;
-  }
+  mccd::CcdCounters c[2];
+  double toi_sum[2] = {0, 0};
+  for (int k = 0; k < 2; ++k)
+    for (const auto& p : all) {
+      double toi = 0;
+      if (run(kind, p, toi, opt, &c[k], k == 0 ? CcdPath::SearchOnly : CcdPath::Fast)) toi_sum[k] += toi;
+    }
   // Stage times, each per query that reaches the stage.
   const double box = median_ns_per_item(runs, all.size(), [&] {
     int s = 0;
@@ -197,22 +221,15 @@ void bench(const QuerySet& set, int runs, const mccd::CcdOptions& opt) {
     for (const auto& p : after_box) s += mccd::detail::ccd_coplanarity_may_hit(kind, p, opt.min_distance);
     sink = sink + s;
   });
-  const double full_on_cop = median_ns_per_item(runs, after_cop.size(), [&] {
-    int s = 0;
-    double toi;
-    for (const auto& p : after_cop) s += run(kind, p, toi, opt, nullptr);
-    sink = sink + s;
-  });
-  const double overall = median_ns_per_item(runs, all.size(), [&] {
-    int s = 0;
-    double toi;
-    for (const auto& p : all) s += run(kind, p, toi, opt, nullptr);
-    sink = sink + s;
-  });
-  // Root stage: the whole test on the queries that reach it, less the two filters.
-  const double root = std::max(0.0, full_on_cop - box - cop);
-  std::printf("%-11s %8zu %9zu %9zu %8llu | %7.1f %7.1f %8.1f %8.1f | toi sum %.9g\n", set.name.c_str(), all.size(),
-              after_box.size(), after_cop.size(), (unsigned long long)c.hits, box, cop, root, overall, toi_sum);
+  const auto past = median_both(runs, after_cop, kind, opt);
+  const auto overall = median_both(runs, all, kind, opt);
+  const mccd::CcdCounters& f = c[1];
+  const double n = static_cast<double>(std::max<std::uint64_t>(f.root_tests, 1));
+  std::printf("%-11s %8zu %9zu %9zu %7llu%s | %6.1f %6.1f | %7.1f %6.1f | %7.1f %6.1f | %5.1f%% %5.1f%% %5.1f %5.1f | %.9g %.9g\n",
+              set.name.c_str(), all.size(), after_box.size(), after_cop.size(), (unsigned long long)f.hits,
+              c[0].hits == f.hits ? " " : "!", box, cop, past[0], past[1], overall[0], overall[1],
+              100.0 * double(f.fast_hits) / n, 100.0 * double(f.fast_misses) / n, double(c[0].pieces) / n,
+              double(f.pieces) / n, toi_sum[0], toi_sum[1]);
 }
 
 }  // namespace
@@ -221,6 +238,8 @@ int main(int argc, char** argv) {
   fs::path dir = fs::path(MCCD_DEFAULT_DATA_DIR) / "sample-queries";
   fs::path step;
   int runs = 7;
+  std::string only;       // run only the sets whose name starts with this
+  std::size_t limit = 0;  // at most this many queries per set (0: all)
   mccd::CcdOptions opt;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -228,6 +247,10 @@ int main(int argc, char** argv) {
       runs = std::max(1, std::atoi(argv[++i]));
     else if (a == "--step" && i + 1 < argc)
       step = argv[++i];
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
+    else if (a == "--limit" && i + 1 < argc)
+      limit = std::strtoul(argv[++i], nullptr, 10);
     else if (a == "--min-distance" && i + 1 < argc)
       opt.min_distance = std::atof(argv[++i]);
     else
@@ -249,11 +272,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_ccd: %s\n", e.what());
     return 2;
   }
-  std::printf("%-11s %8s %9s %9s %8s | %7s %7s %8s %8s\n", "set", "queries", "after-box", "after-cop", "hits", "box ns",
-              "cop ns", "root ns", "all ns");
-  for (const QuerySet& s : sets) bench(s, runs, opt);
-  std::printf("ns per query reaching the stage (box: all queries; cop: after the box test; root: after the\n"
-              "coplanarity filter, net of the filters); all: the whole test, per query. Median of %d runs.\n",
-              runs);
+  std::printf("%-11s %8s %9s %9s %8s | %6s %6s | %14s | %14s | %6s %6s %11s | %s\n", "set", "queries", "after-box",
+              "after-cop", "hits", "box", "cop", "past: S / F", "all: S / F", "f-hit", "f-miss", "pieces S/F",
+              "toi sum S / F");
+  for (QuerySet& s : sets) {
+    if (!s.name.starts_with(only)) continue;
+    if (limit > 0 && s.q.size() > limit) s.q.resize(limit);
+    bench(s, runs, opt);
+  }
+  std::printf(
+      "ns per query: box (all queries), cop (after the box test), past (the whole test on the queries past\n"
+      "both filters), all (the whole test, every query); S: search only, F: fast path first (the default),\n"
+      "alternating runs, medians of %d. hits: reported contacts (! when S and F differ). f-hit, f-miss:\n"
+      "share of the queries past the filters that the fast path certifies / clears; pieces: search pieces\n"
+      "per query past the filters; toi sum: over the reported contacts.\n",
+      runs);
   return 0;
 }
