@@ -4,6 +4,7 @@
 #include <mccd/geometry/ccd.h>
 
 #include <mccd/geometry/ccd_detail.h>
+#include <mccd/geometry/ccd_distance.h>
 #include <mccd/geometry/ccd_fast.h>
 
 namespace mccd {
@@ -66,6 +67,12 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
     return false;
   }
   if (counters) ++counters->root_tests;
+  if (d > 0 && (kind == CcdKind::VertexFace ? within_at_start<KindOps<CcdKind::VertexFace>>(S)
+                                            : within_at_start<KindOps<CcdKind::EdgeEdge>>(S))) {
+    toi = 0;  // within the minimum distance from the start
+    if (counters) ++counters->hits;
+    return true;
+  }
   if (!(d > 0) && path == CcdPath::Fast) {
     const Fast r = kind == CcdKind::VertexFace ? fast_decide<KindOps<CcdKind::VertexFace>>(S, toi)
                                                : fast_decide<KindOps<CcdKind::EdgeEdge>>(S, toi);

@@ -72,6 +72,14 @@ void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
   out.f = dot(w, e);
   out.g[0] = dot(cross(w, db), e), out.g[1] = -dot(cross(v, db), e);
   out.g[2] = dot(cross(w, da), e), out.g[3] = dot(cross(da, z), e);
+  out.N = e;
+}
+
+/// Error bound of the components of the snapshot's e: 8 roundings, magnitude at most
+/// 2 alpha beta per component.
+template <class T>
+T normal_error(const Setup<T>& S) {
+  return 20 * unit_roundoff<T>() * (S.alpha * S.beta) + T(kTiny);
 }
 
 /// Bounds M_i on the magnitude expressions of the g_i at every instant (and on their Bernstein

@@ -37,6 +37,7 @@ void coplanarity(Setup<T>& S) {
 /// compiled once per kind with no run-time dispatch.
 template <CcdKind K>
 struct KindOps {
+  static constexpr CcdKind kind = K;
   template <class T>
   static void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
     if constexpr (K == CcdKind::VertexFace)
@@ -50,6 +51,13 @@ struct KindOps {
       return vertex_face::inside_magnitudes(S, M);
     else
       return edge_edge::inside_magnitudes(S, M);
+  }
+  template <class T>
+  static T normal_error(const Setup<T>& S) {
+    if constexpr (K == CcdKind::VertexFace)
+      return vertex_face::normal_error(S);
+    else
+      return edge_edge::normal_error(S);
   }
 };
 

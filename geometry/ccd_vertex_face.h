@@ -74,6 +74,14 @@ void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
   const V3<T> n = X + Y + Z;
   out.f = dot(A, X);
   out.g[0] = dot(n, X), out.g[1] = dot(n, Y), out.g[2] = dot(n, Z);
+  out.N = n;
+}
+
+/// Error bound of the components of the snapshot's n: 10 roundings, magnitude at most
+/// 2 (bg + ga + ab) per component.
+template <class T>
+T normal_error(const Setup<T>& S) {
+  return 24 * unit_roundoff<T>() * (S.beta * S.gamma + S.gamma * S.alpha + S.alpha * S.beta) + T(kTiny);
 }
 
 /// Bounds M_i on the magnitude expression of g_i at every instant of [0, 1], and on the
