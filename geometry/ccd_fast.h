@@ -17,8 +17,9 @@
 ///  2. for each root, earliest first: a floating-point estimate r (safeguarded Newton), and a
 ///     bracket [a, b] of grid points around it, of width 4 h, with h a power of two from the
 ///     slope at r and the error bound of f (h <= 2^-20). The cubic, evaluated at a and b from
-///     the interpolated difference vectors (`snapshot`), must have certain signs, those of the
-///     piece's ends: then the root lies in (a, b), and f has no other root in the piece;
+///     the interpolated difference vectors (`snapshot`), must have certain signs (beyond
+///     S.ef, or beyond the bound `f_error` local to that instant), those of the piece's ends:
+///     then the root lies in (a, b), and f has no other root in the piece;
 ///  3. the inside functions at a and b (the same snapshots) enclose each g_i over [a, b]: for
 ///     t in [a, b], |g(t) - L(t)| <= (b - a)^2 / 8 max |g''| with L the chord through
 ///     g(a), g(b), and max |g''| on [0, 1] <= N (N - 1) 4 max |Bernstein coefficient| =
@@ -146,8 +147,11 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
   Snap<double> sa, sb;
   Kind::snapshot(S, a, sa);
   Kind::snapshot(S, b, sb);
-  const bool bracket = left_neg ? (sa.f < -S.ef && sb.f > S.ef) : (sa.f > S.ef && sb.f < -S.ef);
-  if (!bracket) return Fast::Unknown;
+  // Certain signs: against S.ef, else against the bound local to the instant (f_error).
+  auto certain = [&](double f, double t, bool neg) {
+    return neg ? (f < -S.ef || f < -Kind::f_error(S, t)) : (f > S.ef || f > Kind::f_error(S, t));
+  };
+  if (!(certain(sa.f, a, left_neg) && certain(sb.f, b, !left_neg))) return Fast::Unknown;
   const double w = b - a;
   const double c = 24 * kU + 7 * (w * w);
   bool all_positive = true;
@@ -168,7 +172,7 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
     if (!left && g < b) {
       Snap<double> sg;
       Kind::snapshot(S, g, sg);
-      left = left_neg ? sg.f < -S.ef : sg.f > S.ef;
+      left = certain(sg.f, g, left_neg);
     }
     (left ? lo : hi) = g;
   }

@@ -53,6 +53,13 @@ struct KindOps {
       return edge_edge::inside_magnitudes(S, M);
   }
   template <class T>
+  static T f_error(const Setup<T>& S, T tau) {
+    if constexpr (K == CcdKind::VertexFace)
+      return vertex_face::f_error(S, tau);
+    else
+      return edge_edge::f_error(S, tau);
+  }
+  template <class T>
   static T normal_error(const Setup<T>& S) {
     if constexpr (K == CcdKind::VertexFace)
       return vertex_face::normal_error(S);
