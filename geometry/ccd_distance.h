@@ -52,8 +52,8 @@ bool interior_within(const Setup<double>& S, double d2) {
   Snap<double> s0;
   Kind::snapshot(S, 0.0, s0);
   double M[4];
-  const int ng = Kind::inside_magnitudes(S, M);
-  for (int i = 0; i < ng; ++i)
+  Kind::inside_magnitudes(S, M);
+  for (int i = 0; i < Kind::inside_count; ++i)
     if (!(s0.g[i] >= M[i] * (24 * kU) + 2 * kTiny)) return false;
   const double eN = Kind::normal_error(S);
   const double nx = std::max(0.0, std::fabs(s0.N.x) - eN), ny = std::max(0.0, std::fabs(s0.N.y) - eN),

@@ -11,14 +11,19 @@
 
 namespace mccd::detail::edge_edge {
 
-/// Difference vectors (A = da, B = db, C = w), the cross products of the cubic, and the pairs
-/// (end of b - end of a) checked by the separation test.
+/// Difference vectors (A = da, B = db, C = w) and the cross products of the cubic.
 template <class T>
 void differences(Setup<T>& S) {
   S.A0 = S.s[1] - S.s[0], S.A1 = S.e[1] - S.e[0];  // da
   S.B0 = S.s[3] - S.s[2], S.B1 = S.e[3] - S.e[2];  // db
   S.C0 = S.s[2] - S.s[0], S.C1 = S.e[2] - S.e[0];  // w
   S.X00 = cross(S.A0, S.B0), S.X01 = cross(S.A0, S.B1), S.X10 = cross(S.A1, S.B0), S.X11 = cross(S.A1, S.B1);
+}
+
+/// The pairs (end of b - end of a) checked by the separation test (stage (c) only; the
+/// snapshots also use D[1] = b0 - a1 and D[2] = b1 - a0).
+template <class T>
+void pairs(Setup<T>& S) {
   S.npairs = 4;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) S.D0[2 * j + i] = S.s[2 + j] - S.s[i], S.D1[2 * j + i] = S.e[2 + j] - S.e[i];

@@ -133,7 +133,7 @@ inline double pow2_at_least(double x) {
 // Steps 2-4 on one piece [x, y] holding exactly one root of f, with sign `left_neg` to its
 // left: Miss (no contact at that root), Hit (toi set) or Unknown.
 template <class Kind>  // KindOps<K> of geometry/ccd_stages.h
-Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, double y, const double (&M)[4], int ng,
+Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, double y, const double (&M)[4],
                double& toi) {
   double slope = 0;
   const double r = root_estimate(p, x, y, slope);
@@ -155,7 +155,7 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
   const double w = b - a;
   const double c = 24 * kU + 7 * (w * w);
   bool all_positive = true;
-  for (int i = 0; i < ng; ++i) {
+  for (int i = 0; i < Kind::inside_count; ++i) {
     const double e = M[i] * c + 2 * kTiny;
     if (sa.g[i] < -e && sb.g[i] < -e) return Fast::Miss;
     all_positive = all_positive && sa.g[i] > e && sb.g[i] > e;
@@ -187,8 +187,8 @@ template <class Kind>
 Fast fast_roots(const Setup<double>& S, double& toi) {
   if (!(std::fabs(S.f.c[0]) > S.ef && std::fabs(S.f.c[3]) > S.ef)) return Fast::Unknown;
   double M[4];
-  const int ng = Kind::inside_magnitudes(S, M);
-  if (one_sign_change(S.f, S.ef)) return fast_root<Kind>(S, S.f, 0.0, 1.0, M, ng, toi);
+  Kind::inside_magnitudes(S, M);
+  if (one_sign_change(S.f, S.ef)) return fast_root<Kind>(S, S.f, 0.0, 1.0, M, toi);
   struct Part {
     Bern<3, double> p;
     double e, lo, hi;
@@ -208,7 +208,7 @@ Fast fast_roots(const Setup<double>& S, double& toi) {
     const Part P = st[--top];
     if (definite_sign(P.p, P.e) != 0) continue;
     if (one_sign_change(P.p, P.e)) {
-      const Fast r = fast_root<Kind>(S, P.p, P.lo, P.hi, M, ng, toi);
+      const Fast r = fast_root<Kind>(S, P.p, P.lo, P.hi, M, toi);
       if (r != Fast::Miss) return r;
       continue;
     }

@@ -33,12 +33,11 @@ struct Setup {
 
 enum class Load { Ok, AllZero, Unsafe };
 
-inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
-  double mx = 0;
+// Loads the points; `mx` is their largest absolute coordinate (from the box test of stage (a)).
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S, double mx) {
   for (int i = 0; i < 4; ++i) {
     S.s[i] = {p.start[i].x(), p.start[i].y(), p.start[i].z()};
     S.e[i] = {p.end[i].x(), p.end[i].y(), p.end[i].z()};
-    mx = std::max(mx, std::max(amax(S.s[i]), amax(S.e[i])));
   }
   S.d = S.d_lo = min_distance;
   if (mx <= 0x1p60 && mx >= 0x1p-60) return Load::Ok;
@@ -59,6 +58,13 @@ inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
     S.d_lo = std::nextafter(std::ldexp(min_distance, -ex), 0.0);
   }
   return Load::Ok;
+}
+
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
+  double mx = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 3; ++k) mx = std::max(mx, std::max(std::fabs(p.start[i][k]), std::fabs(p.end[i][k])));
+  return load(p, min_distance, S, mx);
 }
 
 // Inside functions g_i: necessary conditions for contact at a time t (all g_i(t) >= 0):

@@ -7,17 +7,18 @@
 
 namespace mccd::detail {
 
-/// Stage (b): the coplanarity cubic in Bernstein form with its error bound. Error: 6 products
-/// of three differences per determinant, at most 9 roundings: |err| <= gamma_9 * 6 alpha beta
-/// gamma < 96 u alpha beta gamma (alpha, beta, gamma: largest absolute coordinate of the three
-/// difference vectors at t = 0 and 1). With a minimum distance d, dN = d times a bound on the
-/// length of the cubic's normal, the margin by which the cubic must clear zero.
-template <class T>
-void coplanarity(Setup<T>& S) {
+/// Stage (b) for a kind known at compile time: the coplanarity cubic in Bernstein form with
+/// its error bound. Error: 6 products of three differences per determinant, at most 9
+/// roundings: |err| <= gamma_9 * 6 alpha beta gamma < 96 u alpha beta gamma (alpha, beta,
+/// gamma: largest absolute coordinate of the three difference vectors at t = 0 and 1). With a
+/// minimum distance d, dN = d times a bound on the length of the cubic's normal, the margin by
+/// which the cubic must clear zero. The separation pairs of stage (c) are not computed.
+template <CcdKind K, class T>
+void coplanarity_of(Setup<T>& S) {
   constexpr T u = unit_roundoff<T>();
-  const bool vf = S.kind == CcdKind::VertexFace;
+  constexpr bool vf = K == CcdKind::VertexFace;
   V3<T> a0, a1;
-  if (vf) {
+  if constexpr (vf) {
     vertex_face::differences(S);
     vertex_face::cubic_factor(S, a0, a1);
   } else {
@@ -30,7 +31,33 @@ void coplanarity(Setup<T>& S) {
   S.f = cubic(a0, a1, S.X00, S.X01 + S.X10, S.X11);
   S.ef = T(96) * u * (S.alpha * S.beta * S.gamma) + T(kTiny);
   S.dN = 0;
-  if (S.d > 0) S.dN = S.d * (vf ? vertex_face::normal_bound(S) : edge_edge::normal_bound(S)) * (1 + 16 * u);
+  if (S.d > 0) {
+    if constexpr (vf)
+      S.dN = S.d * vertex_face::normal_bound(S) * (1 + 16 * u);
+    else
+      S.dN = S.d * edge_edge::normal_bound(S) * (1 + 16 * u);
+  }
+}
+
+/// The separation pairs of stage (c), for a kind known at compile time.
+template <CcdKind K, class T>
+void pairs_of(Setup<T>& S) {
+  if constexpr (K == CcdKind::VertexFace)
+    vertex_face::pairs(S);
+  else
+    edge_edge::pairs(S);
+}
+
+/// Stage (b) and the separation pairs, dispatched on the run-time kind.
+template <class T>
+void coplanarity(Setup<T>& S) {
+  if (S.kind == CcdKind::VertexFace) {
+    coplanarity_of<CcdKind::VertexFace>(S);
+    pairs_of<CcdKind::VertexFace>(S);
+  } else {
+    coplanarity_of<CcdKind::EdgeEdge>(S);
+    pairs_of<CcdKind::EdgeEdge>(S);
+  }
 }
 
 /// The per-kind functions of the fast path (geometry/ccd_fast.h) as a type, so that it is
@@ -38,6 +65,7 @@ void coplanarity(Setup<T>& S) {
 template <CcdKind K>
 struct KindOps {
   static constexpr CcdKind kind = K;
+  static constexpr int inside_count = K == CcdKind::VertexFace ? 3 : 4;  ///< number of g_i
   template <class T>
   static void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
     if constexpr (K == CcdKind::VertexFace)

@@ -11,14 +11,18 @@
 
 namespace mccd::detail::vertex_face {
 
-/// Difference vectors, the cross products of the cubic, and the pairs (p - corner) checked by
-/// the separation test.
+/// Difference vectors and the cross products of the cubic.
 template <class T>
 void differences(Setup<T>& S) {
   S.A0 = S.s[1] - S.s[0], S.A1 = S.e[1] - S.e[0];
   S.B0 = S.s[2] - S.s[0], S.B1 = S.e[2] - S.e[0];
   S.C0 = S.s[3] - S.s[0], S.C1 = S.e[3] - S.e[0];
   S.X00 = cross(S.B0, S.C0), S.X01 = cross(S.B0, S.C1), S.X10 = cross(S.B1, S.C0), S.X11 = cross(S.B1, S.C1);
+}
+
+/// The pairs (p - corner) checked by the separation test (stage (c) only).
+template <class T>
+void pairs(Setup<T>& S) {
   S.npairs = 3;
   for (int j = 0; j < 3; ++j) S.D0[j] = S.s[0] - S.s[j + 1], S.D1[j] = S.e[0] - S.e[j + 1];
 }
