@@ -61,6 +61,13 @@ inline bool one_sign_change(const Bern<3, double>& p, double e) {
   return false;
 }
 
+// floor(x) for x in [0, 2^62] (a cast, where std::floor is a library call without SSE4.1).
+inline double floor_nonneg(double x) { return static_cast<double>(static_cast<std::int64_t>(x)); }
+inline double ceil_nonneg(double x) {
+  const double f = floor_nonneg(x);
+  return f < x ? f + 1 : f;
+}
+
 // Split points for the isolation: estimates of the critical points of the cubic (roots of the
 // quadratic derivative) in (0, 1) on the grid of 2^-24, else 1/2. Only their position
 // matters for success, never for soundness.
@@ -81,8 +88,9 @@ inline int split_points(const Bern<3, double>& f, double (&m)[2]) {
   }
   int k = 0;
   for (int i = 0; i < n; ++i) {
-    const double g = std::round(r[i] * 0x1p24);
-    if (!(g >= 1 && g <= 0x1p24 - 1)) continue;
+    const double x24 = r[i] * 0x1p24;
+    if (!(x24 >= 1 && x24 <= 0x1p24 - 1)) continue;
+    const double g = floor_nonneg(x24 + 0.5);
     const double x = g * 0x1p-24;
     if (k == 0 || x != m[0]) m[k++] = x;
   }
@@ -98,8 +106,15 @@ inline int split_points(const Bern<3, double>& f, double (&m)[2]) {
 inline double root_estimate(const Bern<3, double>& p, double x, double y, double& slope) {
   const bool neg0 = p.c[0] < 0;
   double sl = 0, sr = 1;
-  double s = p.c[0] / (p.c[0] - p.c[3]);
-  if (!(s > 0 && s < 1)) s = 0.5;
+  // Start where the control polygon first leaves the sign of c0 (it converges to the curve
+  // quadratically under subdivision, so this is already close).
+  double s = 0.5;
+  for (int k = 0; k < 3; ++k)
+    if ((p.c[k + 1] < 0) != neg0) {
+      const double q = (k + p.c[k] / (p.c[k] - p.c[k + 1])) / 3;
+      if (q > 0 && q < 1) s = q;
+      break;
+    }
   double d = 0;
   for (int it = 0; it < 40; ++it) {
     double b[3] = {p.c[0] + s * (p.c[1] - p.c[0]), p.c[1] + s * (p.c[2] - p.c[1]), p.c[2] + s * (p.c[3] - p.c[2])};
@@ -142,7 +157,7 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
   const double hw = 4 * S.ef / std::fabs(slope);
   if (!(hw <= 0x1p-20)) return Fast::Unknown;
   const double h = hw < 0x1p-50 ? 0x1p-50 : pow2_at_least(hw);
-  const double k = std::floor(r / h);
+  const double k = floor_nonneg(r / h);  // r in [x, y] within [0, 1], r / h <= 2^50
   const double a = std::max(x, (k - 2) * h), b = std::min(y, (k + 2) * h);
   Snap<double> sa, sb;
   Kind::snapshot(S, a, sa);
@@ -165,9 +180,9 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
   // (a, b) with certified signs of f until hi = lo + G, where hi >= b > r or f(hi) is not
   // certainly of the left sign (r < hi, or f within its error bound at hi).
   constexpr double G = 0x1p-32;
-  double lo = std::floor(a / G) * G, hi = std::ceil(b / G) * G;
+  double lo = floor_nonneg(a / G) * G, hi = ceil_nonneg(b / G) * G;
   while (hi - lo > G) {
-    const double g = std::floor((lo + hi) / (2 * G)) * G;
+    const double g = floor_nonneg((lo + hi) / (2 * G)) * G;
     bool left = g <= a;
     if (!left && g < b) {
       Snap<double> sg;
@@ -197,11 +212,17 @@ Fast fast_roots(const Setup<double>& S, double& toi) {
   int top = 0;
   double m[2];
   const int nm = split_points(S.f, m);
-  const double cut[4] = {0, m[0], nm == 2 ? m[1] : 1.0, 1};
-  for (int i = nm; i >= 0; --i) {
-    Part& P = st[top++];
-    P.lo = cut[i], P.hi = cut[i + 1];
-    P.e = restrict_to(S.f, S.ef, P.lo, P.hi, P.p);
+  if (nm == 1) {  // one de Casteljau step at the split point gives both parts
+    st[0].lo = m[0], st[0].hi = 1, st[1].lo = 0, st[1].hi = m[0];
+    st[0].e = st[1].e = split_at(S.f, S.ef, m[0], st[1].p, st[0].p);
+    top = 2;
+  } else {
+    const double cut[4] = {0, m[0], m[1], 1};
+    for (int i = 2; i >= 0; --i) {
+      Part& P = st[top++];
+      P.lo = cut[i], P.hi = cut[i + 1];
+      P.e = restrict_to(S.f, S.ef, P.lo, P.hi, P.p);
+    }
   }
   int halvings = kFastHalvings;
   while (top > 0) {
