@@ -1,6 +1,6 @@
 // Elementary CCD tests (vertex-face, edge-edge) under linear motion: the entry points and
 // stage (a). See geometry/ccd.h for the contract; the error analysis sits beside each stage
-// (ccd_bernstein.h, ccd_stages.h, ccd_search.h).
+// (ccd_bernstein.h, ccd_stages.h, ccd_distance.h, ccd_fast.h, ccd_search.h).
 #include <mccd/geometry/ccd.h>
 
 #include <mccd/geometry/ccd_detail.h>

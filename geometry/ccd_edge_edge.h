@@ -80,15 +80,6 @@ void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
   out.N = e;
 }
 
-/// A bound on the snapshot's f error at tau, as for the vertex-face kind: 16 u |w| . (|da| x |db|).
-template <class T>
-T f_error(const Setup<T>& S, T tau) {
-  const T t1 = 1 - tau;
-  const V3<T> da = vabs(S.A0) * t1 + vabs(S.A1) * tau, db = vabs(S.B0) * t1 + vabs(S.B1) * tau,
-              w = vabs(S.C0) * t1 + vabs(S.C1) * tau;
-  return 16 * unit_roundoff<T>() * dot(w, across(da, db)) + T(kTiny);
-}
-
 /// Error bound of the components of the snapshot's e: 8 roundings, magnitude at most
 /// 2 alpha beta per component.
 template <class T>

@@ -81,18 +81,6 @@ void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
   out.N = n;
 }
 
-/// A bound on the snapshot's f error at tau, often much tighter than S.ef: 16 u (gamma_14 and
-/// the rounding of the bound) times the magnitude |A| . (|B| x |C|) with each vector's
-/// components interpolated in absolute value, (1 - tau) |A0| + tau |A1| >= the magnitude of
-/// the interpolated terms.
-template <class T>
-T f_error(const Setup<T>& S, T tau) {
-  const T t1 = 1 - tau;
-  const V3<T> A = vabs(S.A0) * t1 + vabs(S.A1) * tau, B = vabs(S.B0) * t1 + vabs(S.B1) * tau,
-              C = vabs(S.C0) * t1 + vabs(S.C1) * tau;
-  return 16 * unit_roundoff<T>() * dot(A, across(B, C)) + T(kTiny);
-}
-
 /// Error bound of the components of the snapshot's n: 10 roundings, magnitude at most
 /// 2 (bg + ga + ab) per component.
 template <class T>
