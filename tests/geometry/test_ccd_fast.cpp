@@ -228,6 +228,19 @@ TEST(CcdFastPath, IsolationHelpers) {
   detail::restrict_to(g, 0.0, 0.25, 0.5, h);
   EXPECT_NEAR(detail::root_estimate(h, 0.25, 0.5, slope), 0.3, 1e-14);
   EXPECT_NEAR(slope, 3 * 0.09 - 2.6 * 0.3 - 1.7, 1e-12);
+  // One de Casteljau step at s gives the two restrictions, within the stated bounds.
+  B l, r, l2, r2;
+  const double e = detail::split_at(g, 0x1p-40, 0.375, l, r);
+  detail::restrict_to(g, 0.0, 0.0, 0.375, l2);
+  detail::restrict_to(g, 0.0, 0.375, 1.0, r2);
+  EXPECT_GT(e, 0x1p-40);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(l.c[k], l2.c[k], e);
+    EXPECT_NEAR(r.c[k], r2.c[k], e);
+  }
+  EXPECT_EQ(l.c[0], g.c[0]);
+  EXPECT_EQ(r.c[3], g.c[3]);
+  EXPECT_EQ(l.c[3], r.c[0]);
 }
 
 // Every family of contacts against the exact reference: no false negative, no late toi, no
