@@ -1,53 +1,54 @@
 // Elementary CCD tests (vertex-face, edge-edge) under linear motion: the entry points and
 // stage (a). See geometry/ccd.h for the contract; the error analysis sits beside each stage
-// (ccd_bernstein.h, ccd_stages.h, ccd_search.h).
+// (ccd_bernstein.h, ccd_stages.h, ccd_distance.h, ccd_fast.h, ccd_search.h).
 #include <mccd/geometry/ccd.h>
 
 #include <mccd/geometry/ccd_detail.h>
-#include <mccd/geometry/ccd_search.h>
+#include <mccd/geometry/ccd_distance.h>
+#include <mccd/geometry/ccd_fast.h>
 
 namespace mccd {
 namespace detail {
 
-bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {
-  const int split = kind == CcdKind::VertexFace ? 1 : 2;
-  // fl(lo2 - hi1) > d (1 + 4u) implies lo2 - hi1 > d; for d = 0 the sign of a rounded
-  // difference is exact.
+namespace {
+
+// Stage (a) for a kind known at compile time; when the boxes overlap, `mx` receives the largest
+// absolute coordinate of the eight points (for the scaling in `load`), from the same minima
+// and maxima. fl(lo2 - hi1) > d (1 + 4u) implies lo2 - hi1 > d; for d = 0 the sign of a
+// rounded difference is exact.
+template <CcdKind K>
+bool box_overlap(const CcdPoints& p, double min_distance, double& mx) {
+  constexpr int split = K == CcdKind::VertexFace ? 1 : 2;
   const double d = min_distance > 0 ? min_distance * (1 + 4 * kU) : 0.0;
+  mx = 0;
   for (int ax = 0; ax < 3; ++ax) {
-    double lo1 = HUGE_VAL, hi1 = -HUGE_VAL, lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
-    for (int i = 0; i < 4; ++i) {
+    double lo1 = std::min(p.start[0][ax], p.end[0][ax]), hi1 = std::max(p.start[0][ax], p.end[0][ax]);
+    double lo2 = std::min(p.start[3][ax], p.end[3][ax]), hi2 = std::max(p.start[3][ax], p.end[3][ax]);
+    for (int i = 1; i < 3; ++i) {
       const double a = p.start[i][ax], b = p.end[i][ax];
-      const double mn = std::min(a, b), mx = std::max(a, b);
-      if (i < split) {
-        lo1 = std::min(lo1, mn), hi1 = std::max(hi1, mx);
-      } else {
-        lo2 = std::min(lo2, mn), hi2 = std::max(hi2, mx);
-      }
+      double& lo = i < split ? lo1 : lo2;
+      double& hi = i < split ? hi1 : hi2;
+      lo = std::min(lo, std::min(a, b)), hi = std::max(hi, std::max(a, b));
     }
     if (lo2 - hi1 > d || lo1 - hi2 > d) return false;
+    mx = std::max(mx, std::max(std::max(-lo1, -lo2), std::max(hi1, hi2)));
   }
   return true;
 }
 
-bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance) {
-  Setup<double> S;
-  S.kind = kind;
-  if (load(p, min_distance, S) != Load::Ok) return true;
-  coplanarity(S);
-  return definite_sign(S.f, S.ef + S.dN) == 0;
-}
-
-bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
+template <CcdKind K>
+bool run(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters, CcdPath path) {
+  using Kind = KindOps<K>;
   if (counters) ++counters->queries;
   const double d = options.min_distance > 0 ? options.min_distance : 0.0;
-  if (!ccd_box_overlap(kind, p, d)) {
+  double mx = 0;
+  if (!box_overlap<K>(p, d, mx)) {
     if (counters) ++counters->box_culled;
     return false;
   }
   Setup<double> S;
-  S.kind = kind;
-  switch (load(p, d, S)) {
+  S.kind = K;
+  switch (load(p, d, S, mx)) {
     case Load::Ok:
       break;
     case Load::AllZero:  // every point at the origin at both times: touching throughout
@@ -59,12 +60,29 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
       if (counters) ++counters->fallbacks, ++counters->hits;
       return true;
   }
-  coplanarity(S);
+  coplanarity_of<K>(S);
   if (definite_sign(S.f, S.ef + S.dN) != 0) {
     if (counters) ++counters->coplanar_culled;
     return false;
   }
   if (counters) ++counters->root_tests;
+  pairs_of<K>(S);
+  if (d > 0 && within_at_start<Kind>(S)) {
+    toi = 0;  // within the minimum distance from the start
+    if (counters) ++counters->hits;
+    return true;
+  }
+  if (!(d > 0) && path == CcdPath::Fast) {
+    const Fast r = fast_decide<Kind>(S, toi);
+    if (r == Fast::Hit) {
+      if (counters) ++counters->fast_hits, ++counters->hits;
+      return true;
+    }
+    if (r == Fast::Miss) {
+      if (counters) ++counters->fast_misses;
+      return false;
+    }
+  }
   double t = 0;
   Piece<double> root;
   root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
@@ -73,7 +91,7 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   // tried when the floating-point values at t = 0 allow it (coplanar and inside within
   // their error bounds).
   if (may_touch_at(root, ng, 0) &&
-      (kind == CcdKind::VertexFace ? exact_vertex_face_touch(p.start) : exact_edge_edge_touch(p.start))) {
+      (K == CcdKind::VertexFace ? exact_vertex_face_touch(p.start) : exact_edge_edge_touch(p.start))) {
     toi = 0;
     if (counters) ++counters->hits;
     return true;
@@ -86,20 +104,43 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
   lp.root_d = &root;
   lp.ng_d = ng;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
+  if (counters) counters->pieces += (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.budget);
   if (r == Outcome::Miss) return false;
   toi = t;
   if (counters) ++counters->hits;
   return true;
 }
 
+}  // namespace
+
+bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {
+  double mx;
+  return kind == CcdKind::VertexFace ? box_overlap<CcdKind::VertexFace>(p, min_distance, mx)
+                                     : box_overlap<CcdKind::EdgeEdge>(p, min_distance, mx);
+}
+
+bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance) {
+  Setup<double> S;
+  S.kind = kind;
+  if (load(p, min_distance, S) != Load::Ok) return true;
+  coplanarity(S);
+  return definite_sign(S.f, S.ef + S.dN) == 0;
+}
+
+bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters,
+             CcdPath path) {
+  return kind == CcdKind::VertexFace ? run<CcdKind::VertexFace>(p, toi, options, counters, path)
+                                     : run<CcdKind::EdgeEdge>(p, toi, options, counters, path);
+}
+
 }  // namespace detail
 
 bool vertex_face_ccd(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
-  return detail::ccd_run(detail::CcdKind::VertexFace, p, toi, options, counters);
+  return detail::run<detail::CcdKind::VertexFace>(p, toi, options, counters, detail::CcdPath::Fast);
 }
 
 bool edge_edge_ccd(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters) {
-  return detail::ccd_run(detail::CcdKind::EdgeEdge, p, toi, options, counters);
+  return detail::run<detail::CcdKind::EdgeEdge>(p, toi, options, counters, detail::CcdPath::Fast);
 }
 
 }  // namespace mccd

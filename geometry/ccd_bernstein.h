@@ -93,6 +93,25 @@ inline T split_half(const Bern<N, T>& p, T err, Bern<N, T>& l, Bern<N, T>& r) {
   return err + 2 * N * unit_roundoff<T>() * maxabs(p) + T(kTiny);
 }
 
+// de Casteljau at s (0 < s < 1, 1 - s exact): the polynomial on the piece's [0, s] (l) and
+// [s, 1] (r), each over its own [0, 1]. Every lerp (1 - s) x + s y is a convex combination that
+// rounds three times, within 2.01 u max |c|; N levels: the error bound grows by 4 N u max|c|
+// (as for restrict_to), exact errors propagating with weight at most 1.
+template <int N, class T>
+inline T split_at(const Bern<N, T>& p, T err, T s, Bern<N, T>& l, Bern<N, T>& r) {
+  const T s1 = 1 - s;
+  T t[N + 1];
+  for (int k = 0; k <= N; ++k) t[k] = p.c[k];
+  l.c[0] = t[0];
+  r.c[N] = t[N];
+  for (int k = 1; k <= N; ++k) {
+    for (int i = 0; i <= N - k; ++i) t[i] = s1 * t[i] + s * t[i + 1];
+    l.c[k] = t[0];
+    r.c[N - k] = t[N - k];
+  }
+  return err + 4 * N * unit_roundoff<T>() * maxabs(p) + T(kTiny);
+}
+
 // Quadratic vector b0 (1-t)^2 + 2 b1 t (1-t) + b2 t^2 = a(t) x b(t) for linear a, b.
 // The same polynomial in Bernstein form over [lo, hi] (dyadic, so 1 - lo and 1 - hi are
 // exact): coefficient k is the blossom at (lo, ..., lo, hi, ..., hi) with k copies of hi.

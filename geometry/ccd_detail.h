@@ -15,8 +15,13 @@ bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance);
 /// coplanar (within `min_distance`) on [0, 1], hence no contact. Does not apply stage (a).
 bool ccd_coplanarity_may_hit(CcdKind kind, const CcdPoints& p, double min_distance);
 
-/// The whole test (stages a, b, c), as called by vertex_face_ccd / edge_edge_ccd.
-bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters);
+/// Whether stage (c) tries the fast path (geometry/ccd_fast.h) before the search.
+enum class CcdPath { Fast, SearchOnly };
+
+/// The whole test (stages a, b, c), as called by vertex_face_ccd / edge_edge_ccd. SearchOnly
+/// skips the fast path: the tests and the benchmark compare the two.
+bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters,
+             CcdPath path = CcdPath::Fast);
 
 /// Tuning constants of stage (c), documented in ccd.h.
 inline constexpr int kCcdMaxDepth = 40;          ///< double pass: pieces down to 2^-40

@@ -19,6 +19,7 @@ struct Setup {
   CcdKind kind;
   V s[4], e[4];
   T d = 0;
+  T d_lo = 0;  // a lower bound of the scaled minimum distance (for proving "within d")
   V X00, X01, X10, X11;      // VF: B x C at (t0|t1) x (t0|t1); EE: da x db
   V A0, A1, B0, B1, C0, C1;  // VF: a-p, b-p, c-p; EE: da, db, w
   T alpha = 0, beta = 0, gamma = 0;
@@ -32,14 +33,13 @@ struct Setup {
 
 enum class Load { Ok, AllZero, Unsafe };
 
-inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
-  double mx = 0;
+// Loads the points; `mx` is their largest absolute coordinate (from the box test of stage (a)).
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S, double mx) {
   for (int i = 0; i < 4; ++i) {
     S.s[i] = {p.start[i].x(), p.start[i].y(), p.start[i].z()};
     S.e[i] = {p.end[i].x(), p.end[i].y(), p.end[i].z()};
-    mx = std::max(mx, std::max(amax(S.s[i]), amax(S.e[i])));
   }
-  S.d = min_distance;
+  S.d = S.d_lo = min_distance;
   if (mx <= 0x1p60 && mx >= 0x1p-60) return Load::Ok;
   if (mx == 0) return Load::AllZero;
   if (!std::isfinite(mx)) return Load::Unsafe;
@@ -53,8 +53,18 @@ inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
   for (int i = 0; i < 4; ++i)
     for (V3<double>* v : {&S.s[i], &S.e[i]}) exact = scale(v->x) && scale(v->y) && scale(v->z) && exact;
   if (!exact) return Load::Unsafe;
-  if (min_distance > 0) S.d = std::nextafter(std::ldexp(min_distance, -ex), HUGE_VAL);
+  if (min_distance > 0) {
+    S.d = std::nextafter(std::ldexp(min_distance, -ex), HUGE_VAL);
+    S.d_lo = std::nextafter(std::ldexp(min_distance, -ex), 0.0);
+  }
   return Load::Ok;
+}
+
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
+  double mx = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 3; ++k) mx = std::max(mx, std::max(std::fabs(p.start[i][k]), std::fabs(p.end[i][k])));
+  return load(p, min_distance, S, mx);
 }
 
 // Inside functions g_i: necessary conditions for contact at a time t (all g_i(t) >= 0):
@@ -73,6 +83,17 @@ struct Piece {
   T ef;
   Bern<4, T> g[4];
   T eg[4];
+};
+
+// The cubic and the inside functions at one instant (the fast path, geometry/ccd_fast.h),
+// computed from the difference vectors interpolated to that instant. `ef` bounds the error of
+// f (the same bound as the Bernstein coefficients of stage (b)); the inside functions' bounds
+// come from magnitudes fixed per query (`inside_magnitudes` of each kind).
+template <class T>
+struct Snap {
+  T f;
+  T g[4];
+  V3<T> N;  // VF: the face normal n; EE: e = da x db (the min_distance shortcut)
 };
 
 // Closest point to p on segment [a, b] (any point is fine for soundness).

@@ -7,17 +7,18 @@
 
 namespace mccd::detail {
 
-/// Stage (b): the coplanarity cubic in Bernstein form with its error bound. Error: 6 products
-/// of three differences per determinant, at most 9 roundings: |err| <= gamma_9 * 6 alpha beta
-/// gamma < 96 u alpha beta gamma (alpha, beta, gamma: largest absolute coordinate of the three
-/// difference vectors at t = 0 and 1). With a minimum distance d, dN = d times a bound on the
-/// length of the cubic's normal, the margin by which the cubic must clear zero.
-template <class T>
-void coplanarity(Setup<T>& S) {
+/// Stage (b) for a kind known at compile time: the coplanarity cubic in Bernstein form with
+/// its error bound. Error: 6 products of three differences per determinant, at most 9
+/// roundings: |err| <= gamma_9 * 6 alpha beta gamma < 96 u alpha beta gamma (alpha, beta,
+/// gamma: largest absolute coordinate of the three difference vectors at t = 0 and 1). With a
+/// minimum distance d, dN = d times a bound on the length of the cubic's normal, the margin by
+/// which the cubic must clear zero. The separation pairs of stage (c) are not computed.
+template <CcdKind K, class T>
+void coplanarity_of(Setup<T>& S) {
   constexpr T u = unit_roundoff<T>();
-  const bool vf = S.kind == CcdKind::VertexFace;
+  constexpr bool vf = K == CcdKind::VertexFace;
   V3<T> a0, a1;
-  if (vf) {
+  if constexpr (vf) {
     vertex_face::differences(S);
     vertex_face::cubic_factor(S, a0, a1);
   } else {
@@ -30,8 +31,75 @@ void coplanarity(Setup<T>& S) {
   S.f = cubic(a0, a1, S.X00, S.X01 + S.X10, S.X11);
   S.ef = T(96) * u * (S.alpha * S.beta * S.gamma) + T(kTiny);
   S.dN = 0;
-  if (S.d > 0) S.dN = S.d * (vf ? vertex_face::normal_bound(S) : edge_edge::normal_bound(S)) * (1 + 16 * u);
+  if (S.d > 0) {
+    if constexpr (vf)
+      S.dN = S.d * vertex_face::normal_bound(S) * (1 + 16 * u);
+    else
+      S.dN = S.d * edge_edge::normal_bound(S) * (1 + 16 * u);
+  }
 }
+
+/// The separation pairs of stage (c), for a kind known at compile time.
+template <CcdKind K, class T>
+void pairs_of(Setup<T>& S) {
+  if constexpr (K == CcdKind::VertexFace)
+    vertex_face::pairs(S);
+  else
+    edge_edge::pairs(S);
+}
+
+/// Stage (b) and the separation pairs, dispatched on the run-time kind.
+template <class T>
+void coplanarity(Setup<T>& S) {
+  if (S.kind == CcdKind::VertexFace) {
+    coplanarity_of<CcdKind::VertexFace>(S);
+    pairs_of<CcdKind::VertexFace>(S);
+  } else {
+    coplanarity_of<CcdKind::EdgeEdge>(S);
+    pairs_of<CcdKind::EdgeEdge>(S);
+  }
+}
+
+/// The per-kind functions of the fast path (geometry/ccd_fast.h) as a type, so that it is
+/// compiled once per kind with no run-time dispatch.
+template <CcdKind K>
+struct KindOps {
+  static constexpr CcdKind kind = K;
+  static constexpr int inside_count = K == CcdKind::VertexFace ? 3 : 4;  ///< number of g_i
+  template <class T>
+  static void snapshot(const Setup<T>& S, T tau, Snap<T>& out) {
+    if constexpr (K == CcdKind::VertexFace)
+      vertex_face::snapshot(S, tau, out);
+    else
+      edge_edge::snapshot(S, tau, out);
+  }
+  template <class T>
+  static int inside_magnitudes(const Setup<T>& S, T (&M)[4]) {
+    if constexpr (K == CcdKind::VertexFace)
+      return vertex_face::inside_magnitudes(S, M);
+    else
+      return edge_edge::inside_magnitudes(S, M);
+  }
+  /// A bound on the snapshot's f error at tau, often much tighter than S.ef: 16 u (gamma_14
+  /// and the rounding of the bound) times the magnitude of the triple product, the sum of its
+  /// six monomials in absolute value (the same for VF, A . (B x C), and EE, w . (da x db) with
+  /// A, B, C = da, db, w), each vector's components interpolated in absolute value:
+  /// (1 - tau) |A0| + tau |A1| bounds the magnitude of the interpolated terms.
+  template <class T>
+  static T f_error(const Setup<T>& S, T tau) {
+    const T t1 = 1 - tau;
+    const V3<T> A = vabs(S.A0) * t1 + vabs(S.A1) * tau, B = vabs(S.B0) * t1 + vabs(S.B1) * tau,
+                C = vabs(S.C0) * t1 + vabs(S.C1) * tau;
+    return 16 * unit_roundoff<T>() * dot(A, across(B, C)) + T(kTiny);
+  }
+  template <class T>
+  static T normal_error(const Setup<T>& S) {
+    if constexpr (K == CcdKind::VertexFace)
+      return vertex_face::normal_error(S);
+    else
+      return edge_edge::normal_error(S);
+  }
+};
 
 /// Computes the inside functions on [0, 1] and, for every polynomial of stage (c) (the cubic
 /// included), an error bound from its magnitude expression: gamma_k times the same expression
