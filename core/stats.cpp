@@ -10,6 +10,9 @@ void add(CcdCounters& a, const CcdCounters& b) {
   a.root_tests += b.root_tests;
   a.fallbacks += b.fallbacks;
   a.hits += b.hits;
+  a.fast_hits += b.fast_hits;
+  a.fast_misses += b.fast_misses;
+  a.pieces += b.pieces;
 }
 }  // namespace
 
