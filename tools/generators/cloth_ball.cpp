@@ -19,7 +19,8 @@ nlohmann::json cloth_ball_parameters(SceneSize size) {
   const int frames = size == SceneSize::Full ? 100 : size == SceneSize::Small ? 20 : 6;
   return {{"quads_per_side", n},  {"ball_rings", rings},   {"frames", frames},       {"duration_s", 3.3},
           {"substep_s", 1.0 / 480}, {"cloth_side", 2.0},   {"ball_radius", 0.5},      {"drop_height", 0.08},
-          {"spin_start_s", 1.2},   {"spin_rad_per_s", 2.5}, {"friction", 0.6},        {"bend", 0.04}};
+          {"spin_start_s", 1.2},   {"spin_rad_per_s", 4.0}, {"friction", 0.6},        {"bend", 0.01},
+          {"thickness_per_edge", 0.5}};
 }
 
 void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink& sink) {
@@ -35,7 +36,7 @@ void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(turn, Vec3::UnitZ()).toRotationMatrix();
   for (std::size_t i = 0; i < cloth.num_vertices(); ++i) cloth.vertices.set_point(i, rot * cloth.vertices.point(i) + shift);
 
-  const double edge = side / n, thickness = 0.8 * edge;
+  const double edge = side / n, thickness = double(p.at("thickness_per_edge")) * edge;
   PbdCloth::Options opt;
   opt.bend = p.at("bend");
   opt.repulsion = thickness;

@@ -21,9 +21,9 @@ SceneSize parse_size(const std::string& name) {
 
 const std::vector<Generator>& generators() {
   static const std::vector<Generator> all{
-      {"cloth-ball", 1, "a square cloth (PBD) dropping onto a turning ball and curling around it", cloth_ball_parameters,
+      {"cloth-ball", 2, "a square cloth (PBD) dropping onto a turning ball and curling around it", cloth_ball_parameters,
        run_cloth_ball},
-      {"n-body", 1, "hundreds of rigid spheres and cones bouncing off each other and the walls of a box", n_body_parameters,
+      {"n-body", 2, "hundreds of rigid spheres and cones bouncing off each other and the walls of a box", n_body_parameters,
        run_n_body},
       {"bart", 1, "unconnected triangles in unstructured random motion, high depth complexity", bart_parameters, run_bart},
       {"skirt", 1, "a layered, ruffled skirt (PBD) swirling around a turning body and folding onto itself",

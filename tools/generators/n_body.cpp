@@ -28,7 +28,7 @@ namespace {
 
 struct Body {
   std::size_t first, count;  // the body's vertices in the scene mesh
-  double radius, inv_mass;   // collision sphere
+  double radius, bound, inv_mass;  // collision sphere (a little smaller than the mesh), bounding sphere
   Vec3 c, v, omega;
   Eigen::Quaterniond q;
 };
@@ -54,7 +54,7 @@ void run_n_body(const nlohmann::json& p, std::uint64_t seed, const FrameSink& si
       bound = std::sqrt(r * r + h * h / 4);
       piece = make_cone(p.at("cone_segments"), r, h);
     }
-    Body body{append_piece(local, piece), piece.num_vertices(), scale * bound, 1.0 / std::pow(bound, 3), {}, {}, {}, {}};
+    Body body{append_piece(local, piece), piece.num_vertices(), scale * bound, bound, 1.0 / std::pow(bound, 3), {}, {}, {}, {}};
     // a free place in the box (a few tries; an overlap left over is pushed apart by the solver)
     for (int attempt = 0; attempt < 100; ++attempt) {
       body.c = rng.in_box(Vec3::Constant(-half + bound), Vec3::Constant(half - bound));
@@ -74,16 +74,19 @@ void run_n_body(const nlohmann::json& p, std::uint64_t seed, const FrameSink& si
   const int substeps = std::max(1, int(std::lround(frame_dt / double(p.at("substep_s")))));
   const double dt = frame_dt / substeps;
   const Vec3 gravity(0, 0, -double(p.at("gravity")));
+  // the walls hold each body's whole mesh (its bounding sphere) inside the box
+  auto walls = [&](Body& b) {
+    for (int k = 0; k < 3; ++k) {
+      if (b.c[k] - b.bound < -half) b.c[k] = -half + b.bound, b.v[k] = e * std::abs(b.v[k]);
+      if (b.c[k] + b.bound > half) b.c[k] = half - b.bound, b.v[k] = -e * std::abs(b.v[k]);
+    }
+  };
   auto substep = [&] {
     for (Body& b : bodies) {
       b.v += dt * gravity;
       b.c += dt * b.v;
       const double w = b.omega.norm();
       if (w > 0) b.q = (Eigen::Quaterniond(Eigen::AngleAxisd(w * dt, b.omega / w)) * b.q).normalized();
-      for (int k = 0; k < 3; ++k) {  // walls
-        if (b.c[k] - b.radius < -half) b.c[k] = -half + b.radius, b.v[k] = e * std::abs(b.v[k]);
-        if (b.c[k] + b.radius > half) b.c[k] = half - b.radius, b.v[k] = -e * std::abs(b.v[k]);
-      }
     }
     for (std::size_t i = 0; i < bodies.size(); ++i)
       for (std::size_t j = i + 1; j < bodies.size(); ++j) {
@@ -105,6 +108,7 @@ void run_n_body(const nlohmann::json& p, std::uint64_t seed, const FrameSink& si
         a.omega += (0.4 / a.radius) * n.cross(slide);
         b.omega += (0.4 / b.radius) * n.cross(slide);
       }
+    for (Body& b : bodies) walls(b);
   };
   for (int f = 0; f < frames; ++f) {
     if (f > 0)
