@@ -24,7 +24,7 @@ struct GeneratedSource {
   std::string cache_dir;
   std::string size = "full";  ///< tiny, small or full
   std::uint64_t seed = 1;
-  int steps = 10;  ///< the last `steps` frame intervals of the sequence (most contact)
+  int steps = 6;   ///< the last `steps` frame intervals of the sequence (most contact)
 };
 
 /// A generated scene (cloth-ball, n-body, bart, skirt), generated into the cache first when

@@ -19,7 +19,7 @@ nlohmann::json cloth_ball_parameters(SceneSize size) {
   const int frames = size == SceneSize::Full ? 100 : size == SceneSize::Small ? 20 : 6;
   return {{"quads_per_side", n},  {"ball_rings", rings},   {"frames", frames},       {"duration_s", 3.3},
           {"substep_s", 1.0 / 480}, {"cloth_side", 2.0},   {"ball_radius", 0.5},      {"drop_height", 0.08},
-          {"spin_start_s", 1.2},   {"spin_rad_per_s", 4.0}, {"friction", 0.6},        {"bend", 0.01},
+          {"spin_start_s", 1.0},   {"spin_rad_per_s", 1.5}, {"friction", 0.6},        {"bend", 0.01},
           {"thickness_per_edge", 0.5}};
 }
 

@@ -21,7 +21,7 @@ SceneSize parse_size(const std::string& name) {
 
 const std::vector<Generator>& generators() {
   static const std::vector<Generator> all{
-      {"cloth-ball", 2, "a square cloth (PBD) dropping onto a turning ball and curling around it", cloth_ball_parameters,
+      {"cloth-ball", 3, "a square cloth (PBD) dropping onto a turning ball and curling around it", cloth_ball_parameters,
        run_cloth_ball},
       {"n-body", 2, "hundreds of rigid spheres and cones bouncing off each other and the walls of a box", n_body_parameters,
        run_n_body},
