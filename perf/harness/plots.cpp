@@ -93,6 +93,17 @@ std::string two_bars(const std::string& dir, const std::string& file, const std:
   return p.draw();
 }
 
+// One bar per scene.
+std::string one_bar(const std::string& dir, const std::string& file, const std::string& title, const std::string& ylabel,
+                    const std::vector<std::string>& rows, bool log, const std::string& colour) {
+  Plot p(dir, file, title, "scene", ylabel);
+  p.data("d", rows);
+  p.script() << "set style data histograms\nset style fill solid 0.85 border -1\nset boxwidth 0.6\n"
+             << (log ? "set logscale y\n" : "set yrange [0:*]\n") << "set xtics rotate by -20\nset key off\n"
+             << "plot $d using 2:xtic(1) lc rgb '" << colour << "'\n";
+  return p.draw();
+}
+
 }  // namespace
 
 bool gnuplot_available() {
@@ -191,23 +202,11 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
     p.script() << "set xrange [0.5:16.5]\nset yrange [0:*]\nset xtics (1,2,4,8,12,16)\n" << plot.str();
     files.push_back(p.draw());
   }
-  {  // section 7.2: front memory
-    memory.push_back("\"BART, paper (sec. 7.2)\" 17");
-    Plot p(dir, "front_memory.png", "Memory held by the front, largest over the steps (paper section 7.2)" + on, "scene",
-           "front memory (MB, 10^6 bytes)");
-    p.data("d", memory);
-    p.script() << "set style data histograms\nset style fill solid 0.85 border -1\nset boxwidth 0.6\nset yrange [0:*]\n"
-               << "set xtics rotate by -20\nset key off\nplot $d using 2:xtic(1) lc rgb '#228833'\n";
-    files.push_back(p.draw());
-  }
-  {
-    Plot p(dir, "elementary_per_contact.png", "Elementary tests run per contact found (vf + ee)" + on, "scene",
-           "elementary tests per contact (log scale)");
-    p.data("d", elementary);
-    p.script() << "set style data histograms\nset style fill solid 0.85 border -1\nset boxwidth 0.6\nset logscale y\n"
-               << "set xtics rotate by -20\nset key off\nplot $d using 2:xtic(1) lc rgb '#aa3377'\n";
-    files.push_back(p.draw());
-  }
+  memory.push_back("\"BART, paper (sec. 7.2)\" 17");
+  files.push_back(one_bar(dir, "front_memory.png", "Memory held by the front, largest over the steps (paper section 7.2)" + on,
+                          "front memory (MB, 10^6 bytes)", memory, false, "#228833"));
+  files.push_back(one_bar(dir, "elementary_per_contact.png", "Elementary tests run per contact found (vf + ee)" + on,
+                          "elementary tests per contact (log scale)", elementary, true, "#aa3377"));
   return files;
 }
 

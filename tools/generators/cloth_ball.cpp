@@ -47,9 +47,7 @@ void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink
   scene.name = "cloth-ball";
   const std::size_t ball_first = append_piece(scene, ball_rest);
 
-  const double frame_dt = double(p.at("duration_s")) / frames;
-  const int substeps = std::max(1, int(std::lround(frame_dt / double(p.at("substep_s")))));
-  const double dt = frame_dt / substeps;
+  const auto [substeps, dt] = substep_timing(p);
   double t = 0, angle = 0, omega = 0;
   // the ball: a sphere of the mesh's radius, turning about z; friction drags the cloth along
   const double contact_r = radius + 0.5 * thickness;
@@ -72,9 +70,7 @@ void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink
         sim.substep(dt, collide);
       }
     sim.write(scene.vertices, 0);
-    const Eigen::Matrix3d ball_rot = Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
-    for (std::size_t i = 0; i < ball_rest.num_vertices(); ++i)
-      scene.vertices.set_point(ball_first + i, ball_rot * ball_rest.vertices.point(i));
+    place_turned(scene, ball_first, ball_rest, angle);
     sink(f, scene);
   }
 }

@@ -1,5 +1,8 @@
 #include "generators/generators.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <mccd/geometry/error.h>
 
 namespace mccd::gen {
@@ -17,6 +20,12 @@ SceneSize parse_size(const std::string& name) {
   for (SceneSize s : {SceneSize::Tiny, SceneSize::Small, SceneSize::Full})
     if (name == to_string(s)) return s;
   throw Error("scene size '" + name + "': expected tiny, small or full");
+}
+
+SubstepTiming substep_timing(const nlohmann::json& p) {
+  const double frame_dt = double(p.at("duration_s")) / int(p.at("frames"));
+  const int substeps = std::max(1, int(std::lround(frame_dt / double(p.at("substep_s")))));
+  return {substeps, frame_dt / substeps};
 }
 
 const std::vector<Generator>& generators() {

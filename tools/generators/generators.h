@@ -42,6 +42,14 @@ const std::vector<Generator>& generators();
 /// The generator called `name`; throws mccd::Error naming the known scenes otherwise.
 const Generator& find_generator(const std::string& name);
 
+/// The simulation's time step: `substeps` per frame of `dt` seconds each, from the parameters
+/// duration_s (simulated time), frames and substep_s (the longest sub-step allowed).
+struct SubstepTiming {
+  int substeps;
+  double dt;
+};
+SubstepTiming substep_timing(const nlohmann::json& parameters);
+
 // The generators themselves (one file each).
 nlohmann::json cloth_ball_parameters(SceneSize size);
 void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink& sink);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Geometry>
+
 namespace mccd::gen {
 
 namespace {
@@ -69,6 +71,11 @@ TriMesh make_tube(int rows, int segments, const std::function<Vec3(int row, int 
       m.faces.push_back({id(row, s), id(row + 1, s + 1), id(row, s + 1)});
     }
   return m;
+}
+
+void place_turned(TriMesh& scene, std::size_t first, const TriMesh& piece, double angle) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
+  for (std::size_t i = 0; i < piece.num_vertices(); ++i) scene.vertices.set_point(first + i, r * piece.vertices.point(i));
 }
 
 std::size_t append_piece(TriMesh& scene, const TriMesh& piece) {

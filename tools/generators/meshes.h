@@ -24,6 +24,10 @@ TriMesh make_capsule(int segments, int cap_rings, int body_rings, double r, doub
 /// `at(row, s)`; 2 * rows * segments triangles.
 TriMesh make_tube(int rows, int segments, const std::function<Vec3(int row, int s)>& at);
 
+/// Writes `piece`'s vertices turned by `angle` (radians) about the z axis into rows
+/// [first, first + piece.num_vertices()) of `scene` (a rigid piece appended earlier).
+void place_turned(TriMesh& scene, std::size_t first, const TriMesh& piece, double angle);
+
 /// Appends `piece` to `scene` (a disconnected piece); returns the first vertex of the piece.
 std::size_t append_piece(TriMesh& scene, const TriMesh& piece);
 

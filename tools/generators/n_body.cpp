@@ -70,9 +70,7 @@ void run_n_body(const nlohmann::json& p, std::uint64_t seed, const FrameSink& si
   scene.faces = local.faces;
   scene.vertices.resize(local.num_vertices());
 
-  const double frame_dt = double(p.at("duration_s")) / frames;
-  const int substeps = std::max(1, int(std::lround(frame_dt / double(p.at("substep_s")))));
-  const double dt = frame_dt / substeps;
+  const auto [substeps, dt] = substep_timing(p);
   const Vec3 gravity(0, 0, -double(p.at("gravity")));
   // the walls hold each body's whole mesh (its bounding sphere) inside the box
   auto walls = [&](Body& b) {

@@ -85,9 +85,7 @@ void run_skirt(const nlohmann::json& p, std::uint64_t seed, const FrameSink& sin
   scene.name = "skirt";
   const std::size_t body_first = append_piece(scene, body_rest);
 
-  const double frame_dt = double(p.at("duration_s")) / frames;
-  const int substeps = std::max(1, int(std::lround(frame_dt / double(p.at("substep_s")))));
-  const double dt = frame_dt / substeps;
+  const auto [substeps, dt] = substep_timing(p);
   const double turn = double(p.at("turn_rad")) * rng.uniform(0.9, 1.1), period = p.at("turn_period_s");
   auto angle_at = [&](double t) { return turn * std::sin(2 * kPi * t / period); };
   double angle = 0, omega = 0;
@@ -121,9 +119,7 @@ void run_skirt(const nlohmann::json& p, std::uint64_t seed, const FrameSink& sin
         sim.substep(dt, collide);
       }
     sim.write(scene.vertices, 0);
-    const Eigen::Matrix3d r = Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
-    for (std::size_t i = 0; i < body_rest.num_vertices(); ++i)
-      scene.vertices.set_point(body_first + i, r * body_rest.vertices.point(i));
+    place_turned(scene, body_first, body_rest, angle);
     sink(f, scene);
   }
 }
