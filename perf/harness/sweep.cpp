@@ -63,20 +63,25 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
   Contacts reference;
   run_once(w, Method::Traverse, 1, &reference, nullptr);
   std::vector<RunRecord> out;
-  for (Method m : options.methods)
-    for (int threads : options.threads)
-      for (int run = 0; run <= options.repeats; ++run) {
-        RunRecord rec = run_once(w, m, threads, nullptr, run == 0 ? &reference : nullptr);
-        rec.run = run;
-        if (options.progress) {
-          char line[200];
-          std::snprintf(line, sizeof line, "%-20s %-8s %2d threads  %s %9.2f ms per frame", w.name.c_str(), to_string(m),
-                        threads, run == 0 ? "warm-up, checked" : ("run " + std::to_string(run) + "          ").c_str(),
-                        rec.wall_ms / rec.intervals);
-          options.progress(line);
-        }
-        out.push_back(std::move(rec));
-      }
+  auto record = [&](Method m, int threads, int run) {
+    RunRecord rec = run_once(w, m, threads, nullptr, run == 0 ? &reference : nullptr);
+    rec.run = run;
+    if (options.progress) {
+      char line[200];
+      std::snprintf(line, sizeof line, "%-20s %-8s %2d threads  %-17s %9.2f ms per frame", w.name.c_str(), to_string(m),
+                    threads, run == 0 ? "warm-up, checked" : ("run " + std::to_string(run)).c_str(),
+                    rec.wall_ms / rec.intervals);
+      options.progress(line);
+    }
+    out.push_back(std::move(rec));
+  };
+  // the timed runs of the thread counts alternate, so a change in the machine's load while a
+  // method is timed falls on every thread count alike
+  for (Method m : options.methods) {
+    for (int threads : options.threads) record(m, threads, 0);
+    for (int run = 1; run <= options.repeats; ++run)
+      for (int threads : options.threads) record(m, threads, run);
+  }
   return out;
 }
 

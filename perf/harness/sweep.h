@@ -1,7 +1,8 @@
 #pragma once
 /// @file The sweep over methods and thread counts for one workload. The reference is the
 /// serial result (traverse, one thread); every variant first runs once as a warm-up whose
-/// contacts are compared with the reference at every step, and only then is timed.
+/// contacts are compared with the reference at every step, and only then is timed; the timed
+/// runs of a method alternate between the thread counts.
 #include <cstdint>
 #include <functional>
 #include <string>
