@@ -77,7 +77,8 @@ std::string quoted(const std::string& s) { return "\"" + s + "\""; }
 std::string fewer_label(const std::string& scene, double before, double after) {
   if (!(before > 0) || !std::isfinite(after)) return quoted(scene);
   char b[96];
-  std::snprintf(b, sizeof b, "\"%s (%+.0f%%)\"", scene.c_str(), -100 * (1 - after / before));
+  const double change = std::round(-100 * (1 - after / before));
+  std::snprintf(b, sizeof b, "\"%s (%+.0f%%)\"", scene.c_str(), change == 0 ? 0.0 : change);
   return b;
 }
 
