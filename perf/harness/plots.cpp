@@ -117,7 +117,7 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
   const std::string on = " ({/=10 " + machine + "})";
 
   {  // figure 13: speedup against threads, measured and modelled
-    Plot p(dir, "speedup.png", "Speedup against threads, fbd, with the Amdahl model to 16 threads (paper fig. 13)" + on,
+    Plot p(dir, "speedup.png", "Speedup of fbd against threads, Amdahl model to 16 (paper fig. 13)" + on,
            "threads", "speedup over 1 thread (x)");
     std::ostringstream plot;
     plot << "plot x with lines dt 3 lc rgb 'black' title 'linear'";
