@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages mccd needs, only when one is missing (apt-get needs root).
 set -euo pipefail
-pkgs=(cmake g++ make libtbb-dev libeigen3-dev libgtest-dev libgmp-dev nlohmann-json3-dev libcli11-dev libstb-dev)
+pkgs=(cmake g++ make libtbb-dev libeigen3-dev libgtest-dev libgmp-dev nlohmann-json3-dev libcli11-dev libstb-dev gnuplot-nox)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,132 +1,130 @@
-// Whole-step benchmark: methods and thread counts on generated scenes or frame files.
-// Each variant is first checked against `traverse` on the same steps (identical contacts),
-// then timed; the first step (front build) is reported apart, the rest as a median.
-//   bench_core [--scene cloth|spheres|random|tube] [--size K] [--frames N]
-//              [--threads 1,2,4] [--methods traverse,front] [--csv FILE]
+// bench_core: the paper's evaluation in one command. For each scene (the four generated ones
+// and the real cloth-ball step, as one step and as 5 sub-steps) x method x thread count: a
+// warm-up whose contacts are checked step by step against the serial result (traverse, one
+// thread), then repeated timed runs. Writes perf/results/<machine>/: runs.csv (every run),
+// results.md (tables, serial fractions, the paper's figures) and PNG plots (gnuplot).
+//   bench_core [--scenes a,b] [--size tiny|small|full] [--steps N] [--methods traverse,phc,fbd]
+//              [--threads 1,2] [--repeats R] [--out DIR] [--machine NAME] [--no-plots]
 #include <oneapi/tbb/info.h>
-#include <oneapi/tbb/task_arena.h>
 
-#include <algorithm>
+#include <chrono>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <sstream>
+#include <ctime>
+#include <filesystem>
 #include <string>
 #include <vector>
 
-#include <mccd/core/scene.h>
-#include "fixtures/scenes.h"
+#include <CLI/CLI.hpp>
+
 #include <mccd/geometry/error.h>
 
+#include "generators/scene_cache.h"
+#include "harness/plots.h"
+#include "harness/report.h"
+#include "harness/summary.h"
+#include "harness/sweep.h"
+#include "harness/workload.h"
+
 using namespace mccd;
+using namespace mccd::bench;
 
 namespace {
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
-  return out;
+std::string now_text() {
+  char b[64];
+  const std::time_t t = std::time(nullptr);
+  std::strftime(b, sizeof b, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+  return b;
 }
 
-struct Row {
-  std::string scene, method;
-  int threads;
-  double first_ms, median_ms;
-  std::uint64_t volume_tests, elementary_tests, contacts;
-};
+std::string joined(int argc, char** argv) {
+  std::string s = "bench_core";
+  for (int i = 1; i < argc; ++i) s += std::string(" ") + argv[i];
+  return s;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scene_name = "cloth", csv, methods_arg = "traverse,front",
-              threads_arg = std::to_string(tbb::info::default_concurrency());
-  int size = 8, frames = 21;
-  for (int i = 1; i < argc; ++i) {
-    auto next = [&](const char* opt) -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "bench_core: %s needs a value\n", opt);
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (!std::strcmp(argv[i], "--scene")) scene_name = next("--scene");
-    else if (!std::strcmp(argv[i], "--size")) size = std::atoi(next("--size").c_str());
-    else if (!std::strcmp(argv[i], "--frames")) frames = std::atoi(next("--frames").c_str());
-    else if (!std::strcmp(argv[i], "--threads")) threads_arg = next("--threads");
-    else if (!std::strcmp(argv[i], "--methods")) methods_arg = next("--methods");
-    else if (!std::strcmp(argv[i], "--csv")) csv = next("--csv");
-    else {
-      std::fprintf(stderr, "bench_core: unknown argument %s\n", argv[i]);
-      return 2;
-    }
-  }
+  CLI::App app{"Times whole CCD steps per scene, method and thread count after checking every variant's contacts\n"
+               "against the serial result; writes a CSV of every run, a Markdown report and PNG plots."};
+  std::vector<std::string> scenes = workload_names(), methods{"traverse", "phc", "fbd"};
+  std::vector<int> threads;
+  for (int t = 1; t <= tbb::info::default_concurrency(); ++t) threads.push_back(t);
+  GeneratedSource source;
+  int repeats = 3;
+  std::string out, machine, data_dir = MCCD_DEFAULT_DATA_DIR;
+  bool no_plots = false;
+  if (const char* d = std::getenv("MCCD_DATA_DIR"); d && *d) data_dir = d;
+  app.add_option("--scenes", scenes, "scenes: cloth-ball, n-body, bart, skirt, cloth-ball-toi, cloth-ball-toi-5sub")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--size", source.size, "size of the generated scenes: tiny, small or full")->capture_default_str();
+  app.add_option("--seed", source.seed, "seed of the generated scenes")->capture_default_str();
+  app.add_option("--steps", source.steps, "frame intervals timed per generated scene (its last ones)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--methods", methods, "methods: traverse, phc, fbd (bruteforce for small scenes)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--threads", threads, "thread counts (default: 1 up to the hardware threads)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  app.add_option("--repeats", repeats, "timed runs per variant, after the warm-up")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--cache", source.cache_dir, "scene cache (default: $MCCD_SCENE_CACHE, $XDG_CACHE_HOME/mccd/scenes, ~/.cache/mccd/scenes)");
+  app.add_option("--data", data_dir, "shared data folder with toi/cloth-ball (default: ../shared/data or $MCCD_DATA_DIR)")
+      ->capture_default_str();
+  app.add_option("--machine", machine, "name of the results folder (default: from the CPU model and thread count)");
+  app.add_option("--out", out, "results folder (default: perf/results/<machine> in the source tree)");
+  app.add_flag("--no-plots", no_plots, "skip the PNG plots");
+  CLI11_PARSE(app, argc, argv);
+
   try {
-    const AnimatedScene s = make_scene(scene_name, size, frames);
-    std::printf("scene %s: %zu triangles, %zu steps\n", s.name.c_str(), s.num_triangles(), s.frames.size() - 1);
-    auto views = [](const std::vector<Positions>& f) { return std::vector<PositionsView>(f.begin(), f.end()); };
+    SweepOptions opt;
+    opt.methods.clear();
+    for (const std::string& m : methods) opt.methods.push_back(parse_method(m.c_str()));
+    opt.threads = threads;
+    opt.repeats = repeats;
+    opt.progress = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+    if (source.cache_dir.empty()) source.cache_dir = gen::default_cache_dir();
+    if (machine.empty()) machine = default_machine_name();
+    if (out.empty()) out = (std::filesystem::path(MCCD_SOURCE_DIR) / "perf" / "results" / machine).string();
+    if (!no_plots && !gnuplot_available())
+      throw Error("gnuplot with the pngcairo terminal is needed for the plots (bash cmake/install-deps.sh), or pass --no-plots");
 
-    // reference contacts, one vector per step
-    std::vector<std::vector<Contact>> reference;
-    {
-      Scene ref(s.meshes);
-      for (std::size_t f = 1; f < s.frames.size(); ++f)
-        reference.push_back(ref.advance(views(s.frames[f]), Method::Traverse).contacts);
+    MachineInfo info;
+    info.name = machine, info.cpu = cpu_model(), info.hardware_threads = tbb::info::default_concurrency();
+    info.load_before = load_average(), info.date = now_text(), info.command = joined(argc, argv), info.repeats = repeats;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<RunRecord> runs;
+    std::vector<Workload> loaded;
+    for (const std::string& name : scenes) {
+      Workload w = load_workload(name, source, data_dir);
+      std::printf("== %s: %zu triangles, %zu steps over %d frame intervals\n", w.name.c_str(), w.mesh.num_faces(),
+                  w.steps(), w.intervals);
+      std::vector<RunRecord> r = sweep_workload(w, opt);
+      runs.insert(runs.end(), r.begin(), r.end());
+      loaded.push_back(std::move(w));
     }
+    info.load_after = load_average();
 
-    std::vector<Row> rows;
-    for (const std::string& m : split(methods_arg)) {
-      const Method method = parse_method(m.c_str());
-      for (const std::string& t : split(threads_arg)) {
-        const int threads = std::atoi(t.c_str());
-        if (threads < 1) throw Error("--threads: bad count '" + t + "'");
-        tbb::task_arena arena(threads);
-        SceneOptions opt;
-        opt.arena = &arena;
-        Scene scene(s.meshes, opt);
-        std::vector<double> ms;
-        Row row{s.name, m, threads, 0, 0, 0, 0, 0};
-        for (std::size_t f = 1; f < s.frames.size(); ++f) {
-          StepResult r = scene.advance(views(s.frames[f]), method);
-          if (r.contacts != reference[f - 1]) {
-            std::fprintf(stderr, "bench_core: %s with %d threads differs from traverse at step %zu\n", m.c_str(),
-                         threads, f);
-            return 1;
-          }
-          if (f == 1)
-            row.first_ms = 1e3 * r.stats.t_total;  // the front build: reported apart
-          else
-            ms.push_back(1e3 * r.stats.t_total);
-          row.volume_tests += r.stats.volume_tests;
-          row.elementary_tests += r.stats.vf_tests + r.stats.ee_tests;
-          row.contacts += r.contacts.size();
-        }
-        std::sort(ms.begin(), ms.end());
-        row.median_ms = ms.empty() ? row.first_ms : ms[ms.size() / 2];
-        rows.push_back(row);
-      }
-    }
-    std::printf("%-8s %-10s %7s %10s %11s %13s %13s %10s\n", "scene", "method", "threads", "first_ms", "median_ms",
-                "volume_tests", "elem_tests", "contacts");
-    for (const Row& r : rows)
-      std::printf("%-8s %-10s %7d %10.2f %11.2f %13llu %13llu %10llu\n", r.scene.c_str(), r.method.c_str(), r.threads,
-                  r.first_ms, r.median_ms, (unsigned long long)r.volume_tests, (unsigned long long)r.elementary_tests,
-                  (unsigned long long)r.contacts);
-    if (!csv.empty()) {
-      const std::string tmp = csv + ".tmp";
-      {
-        std::ofstream out(tmp);
-        out << "scene,method,threads,first_ms,median_ms,volume_tests,elementary_tests,contacts\n";
-        for (const Row& r : rows)
-          out << r.scene << ',' << r.method << ',' << r.threads << ',' << r.first_ms << ',' << r.median_ms << ','
-              << r.volume_tests << ',' << r.elementary_tests << ',' << r.contacts << '\n';
-        if (!out) throw Error(csv + ": write failed");
-      }
-      std::rename(tmp.c_str(), csv.c_str());
-    }
+    const std::vector<VariantSummary> variants = summarize(runs);
+    std::vector<SceneSummary> summaries;
+    for (const Workload& w : loaded) summaries.push_back(summarize_scene(w, variants));
+    std::filesystem::create_directories(out);
+    write_runs_csv((std::filesystem::path(out) / "runs.csv").string(), runs);
+    write_report((std::filesystem::path(out) / "results.md").string(), info, summaries, variants);
+    std::printf("\n%s\n", report_markdown(info, summaries, variants).c_str());
+    if (!no_plots)
+      for (const std::string& f : draw_plots(out, machine, summaries, variants)) std::printf("plot: %s/%s\n", out.c_str(), f.c_str());
+    std::printf("results in %s (%.0f s)\n", out.c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_core: %s\n", e.what());
-    return 2;
+    return 1;
   }
   return 0;
 }

@@ -1,0 +1,121 @@
+#include "harness/summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+namespace mccd::bench {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+const VariantSummary* find(const std::vector<VariantSummary>& vs, const std::string& scene, Method m, int threads) {
+  for (const VariantSummary& v : vs)
+    if (v.scene == scene && v.method == m && v.threads == threads) return &v;
+  return nullptr;
+}
+}  // namespace
+
+const char* stage_name(int stage) {
+  static const char* names[kStageCount] = {"update", "refit", "search", "orphans", "contacts", "step"};
+  return names[stage];
+}
+
+double stage_ms(const RunRecord& r, int stage) {
+  const StepStats& s = r.sum;
+  const double sec[kStageCount] = {s.t_update, s.t_refit, s.t_front, s.t_orphans, s.t_contacts, 1e-3 * r.wall_ms};
+  return 1e3 * sec[stage] / std::max(1, r.intervals);
+}
+
+double serial_fraction(const std::vector<std::pair<int, double>>& points) {
+  double base = kNaN, num = 0, den = 0;
+  for (const auto& [p, t] : points)
+    if (p == 1) base = t;
+  if (!(base > 0)) return kNaN;
+  for (const auto& [p, t] : points)
+    if (p > 1) {
+      const double x = 1 - 1.0 / p;
+      num += (t / base - 1.0 / p) * x;
+      den += x * x;
+    }
+  return den > 0 ? std::clamp(num / den, 0.0, 1.0) : kNaN;
+}
+
+double amdahl_speedup(double s, int threads) { return 1.0 / (s + (1 - s) / threads); }
+
+std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs) {
+  std::vector<VariantSummary> out;
+  std::map<std::tuple<std::string, int, int>, std::vector<const RunRecord*>> timed;
+  for (const RunRecord& r : runs) {
+    const auto key = std::make_tuple(r.scene, int(r.method), r.threads);
+    if (!timed.count(key)) {
+      VariantSummary v;
+      v.scene = r.scene, v.method = r.method, v.threads = r.threads, v.counts = r;
+      out.push_back(v);
+      timed[key];
+    }
+    if (r.run > 0) timed[key].push_back(&r);
+  }
+  for (VariantSummary& v : out) {
+    const auto& rs = timed[std::make_tuple(v.scene, int(v.method), v.threads)];
+    v.runs = int(rs.size());
+    for (int s = 0; s < kStageCount; ++s) {
+      std::vector<double> ms;
+      for (const RunRecord* r : rs) ms.push_back(stage_ms(*r, s));
+      v.median_ms[s] = median(ms);
+      if (s == kStep && !ms.empty()) {
+        v.min_ms = *std::min_element(ms.begin(), ms.end());
+        v.max_ms = *std::max_element(ms.begin(), ms.end());
+      }
+    }
+  }
+  return out;
+}
+
+SceneSummary summarize_scene(const Workload& w, const std::vector<VariantSummary>& variants) {
+  SceneSummary s;
+  s.scene = w.name, s.description = w.description, s.triangles = w.mesh.num_faces();
+  s.steps = int(w.steps()), s.intervals = w.intervals;
+  std::vector<const VariantSummary*> mine;
+  for (const VariantSummary& v : variants)
+    if (v.scene == w.name) mine.push_back(&v);
+  if (mine.empty()) return s;
+  s.method = mine.front()->method;
+  for (const VariantSummary* v : mine)
+    if (v->method == Method::Fbd) s.method = Method::Fbd;
+  for (const VariantSummary* v : mine)
+    if (v->method == s.method) s.threads.push_back(v->threads), s.ms.push_back(v->median_ms[kStep]);
+  for (int st = 0; st < kStageCount; ++st) {
+    std::vector<std::pair<int, double>> points;
+    for (const VariantSummary* v : mine)
+      if (v->method == s.method) points.emplace_back(v->threads, v->median_ms[st]);
+    s.serial[st] = serial_fraction(points);
+    s.amdahl16[st] = amdahl_speedup(s.serial[st], 16);
+  }
+  const VariantSummary* base = find(variants, w.name, s.method, 1);
+  const VariantSummary* trav = find(variants, w.name, Method::Traverse, 1);
+  const VariantSummary* phc = find(variants, w.name, Method::Phc, 1);
+  if (!base) base = mine.front();
+  const RunRecord& c = base->counts;
+  const double steps = std::max(1, c.steps);
+  s.volume_tests_method = c.sum.volume_tests / steps;
+  s.volume_tests_traverse = trav ? trav->counts.sum.volume_tests / steps : kNaN;
+  s.phc_ms_1 = phc ? phc->median_ms[kStep] : kNaN;
+  s.front_nodes = c.rebuilds ? double(c.rebuild_front) / c.rebuilds : kNaN;
+  s.front_adjacent = c.rebuilds ? double(c.rebuild_adjacent) / c.rebuilds : kNaN;
+  s.front_mb = 1e-6 * double(c.max_front_bytes);
+  s.elementary_tests = (c.sum.vf_tests + c.sum.ee_tests) / steps;
+  s.contacts = (c.sum.vf_contacts + c.sum.ee_contacts) / steps;
+  return s;
+}
+
+}  // namespace mccd::bench

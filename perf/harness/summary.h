@@ -1,0 +1,63 @@
+#pragma once
+/// @file From runs to figures: the median and spread of each variant, the serial fraction of
+/// each stage under Amdahl's law, and the per-scene counts the paper's figures plot.
+///
+/// Serial fraction. Amdahl's law models the time on p threads as T(p) = T(1) (s + (1 - s) / p).
+/// With r_p = T(p) / T(1), r_p - 1/p = s (1 - 1/p) is linear in s; the least-squares fit over
+/// the measured thread counts p > 1 is
+///     s = sum_p (r_p - 1/p)(1 - 1/p) / sum_p (1 - 1/p)^2,
+/// which for 1 and 2 threads only is s = 2 T(2) / T(1) - 1. It is clamped to [0, 1]. The
+/// modelled speedup on n threads is then 1 / (s + (1 - s) / n).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "harness/sweep.h"
+
+namespace mccd::bench {
+
+/// The stages of a step as StepStats times them, and the whole step (wall clock).
+enum Stage { kUpdate, kRefit, kSearch, kOrphans, kContacts, kStep, kStageCount };
+const char* stage_name(int stage);   ///< "update", "refit", "search", "orphans", "contacts", "step"
+/// The time of `stage` in a run, in ms per frame interval.
+double stage_ms(const RunRecord& r, int stage);
+
+struct VariantSummary {
+  std::string scene;
+  Method method = Method::Fbd;
+  int threads = 1, runs = 0;
+  std::array<double, kStageCount> median_ms{}; ///< per frame interval, median over timed runs
+  double min_ms = 0, max_ms = 0;                ///< spread of the whole step over timed runs
+  RunRecord counts;                             ///< the warm-up run (counts do not vary)
+};
+
+/// Amdahl fit (see the file comment) to (threads, time) points; the point with 1 thread is the
+/// base. Returns NaN when there is no point with 1 thread or none with more.
+double serial_fraction(const std::vector<std::pair<int, double>>& points);
+/// 1 / (s + (1 - s) / threads).
+double amdahl_speedup(double s, int threads);
+
+/// Groups runs by (scene, method, threads), in the order they first appear.
+std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs);
+
+/// One scene's figures (the fbd method, or the first method swept when fbd was not).
+struct SceneSummary {
+  std::string scene, description;
+  std::size_t triangles = 0;
+  int steps = 0, intervals = 0;
+  Method method = Method::Fbd;
+  std::vector<int> threads;                 ///< thread counts swept
+  std::vector<double> ms;                   ///< median ms per frame at each of them
+  std::array<double, kStageCount> serial{}; ///< serial fraction of each stage
+  std::array<double, kStageCount> amdahl16{};
+  double volume_tests_traverse = 0, volume_tests_method = 0;  ///< per step; NaN when not swept
+  double phc_ms_1 = 0;                      ///< phc median at 1 thread, NaN when not swept
+  double front_nodes = 0, front_adjacent = 0;  ///< per rebuild (front with / saved by orphans)
+  double front_mb = 0;                      ///< largest front, MB (10^6 bytes)
+  double elementary_tests = 0, contacts = 0;   ///< per step
+};
+
+/// Per-scene figures from the variants of that scene.
+SceneSummary summarize_scene(const Workload& w, const std::vector<VariantSummary>& variants);
+
+}  // namespace mccd::bench

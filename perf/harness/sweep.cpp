@@ -1,0 +1,88 @@
+#include "harness/sweep.h"
+
+#include <oneapi/tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include <mccd/core/scene.h>
+#include <mccd/geometry/error.h>
+
+namespace mccd::bench {
+
+namespace {
+
+using Contacts = std::vector<std::vector<Contact>>;
+
+// One run from a fresh scene. With `keep`, the contacts of every step are stored; with
+// `check`, they are compared with it.
+RunRecord run_once(const Workload& w, Method method, int threads, Contacts* keep, const Contacts* check) {
+  tbb::task_arena arena(threads);
+  SceneOptions opt;
+  opt.arena = &arena;
+  opt.method = method;
+  TriMesh mesh = w.mesh;
+  mesh.vertices = w.positions[0];
+  Scene scene({std::move(mesh)}, opt);
+  RunRecord rec;
+  rec.scene = w.name;
+  rec.method = method;
+  rec.threads = threads;
+  rec.steps = int(w.steps());
+  rec.intervals = w.intervals;
+  for (std::size_t k = 1; k < w.positions.size(); ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    StepResult r = scene.advance(w.positions[k], method);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (check && r.contacts != (*check)[k - 1]) {
+      char msg[256];
+      std::snprintf(msg, sizeof msg, "%s: %s with %d threads: step %zu: %zu contacts differ from the serial result (%zu)",
+                    w.name.c_str(), to_string(method), threads, k, r.contacts.size(), (*check)[k - 1].size());
+      throw Error(msg);
+    }
+    rec.wall_ms += ms;
+    if (k == 1) rec.first_step_ms = ms;
+    rec.sum += r.stats;
+    rec.contacts += r.contacts.size();
+    if (r.stats.rebuilds) {
+      rec.rebuilds += r.stats.rebuilds;
+      rec.rebuild_front += r.stats.front_size;
+      rec.rebuild_adjacent += r.stats.adjacent_leaf_pairs;
+    }
+    rec.max_front_bytes = std::max(rec.max_front_bytes, r.stats.front_bytes);
+    rec.max_front_size = std::max(rec.max_front_size, r.stats.front_size);
+    if (keep) keep->push_back(std::move(r.contacts));
+  }
+  return rec;
+}
+
+}  // namespace
+
+std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& options) {
+  if (w.steps() == 0) throw Error(w.name + ": no step to run");
+  Contacts reference;
+  run_once(w, Method::Traverse, 1, &reference, nullptr);
+  std::vector<RunRecord> out;
+  auto record = [&](Method m, int threads, int run) {
+    RunRecord rec = run_once(w, m, threads, nullptr, run == 0 ? &reference : nullptr);
+    rec.run = run;
+    if (options.progress) {
+      char line[200];
+      std::snprintf(line, sizeof line, "%-20s %-8s %2d threads  %-17s %9.2f ms per frame", w.name.c_str(), to_string(m),
+                    threads, run == 0 ? "warm-up, checked" : ("run " + std::to_string(run)).c_str(),
+                    rec.wall_ms / rec.intervals);
+      options.progress(line);
+    }
+    out.push_back(std::move(rec));
+  };
+  // the timed runs of the thread counts alternate, so a change in the machine's load while a
+  // method is timed falls on every thread count alike
+  for (Method m : options.methods) {
+    for (int threads : options.threads) record(m, threads, 0);
+    for (int run = 1; run <= options.repeats; ++run)
+      for (int threads : options.threads) record(m, threads, run);
+  }
+  return out;
+}
+
+}  // namespace mccd::bench

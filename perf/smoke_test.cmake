@@ -1,0 +1,26 @@
+# perf.bench_core_smoke: runs the sweep on tiny generated scenes into WORK_DIR and checks
+# that every result file is there and that the CSV has a row per run.
+file(REMOVE_RECURSE ${WORK_DIR})
+execute_process(
+  COMMAND ${BENCH} --scenes cloth-ball,n-body,bart,skirt --size tiny --steps 2 --repeats 1 --threads 1,2
+          --methods traverse,phc,fbd --cache ${WORK_DIR}/cache --out ${WORK_DIR}/results --machine smoke
+  RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "bench_core exited with ${rc}")
+endif()
+foreach(f runs.csv results.md speedup.png stages.png volume_tests.png front_length.png fbd_phc_ratio.png
+          front_memory.png elementary_per_contact.png)
+  if(NOT EXISTS ${WORK_DIR}/results/${f})
+    message(FATAL_ERROR "bench_core wrote no ${f}")
+  endif()
+endforeach()
+# 4 scenes x 3 methods x 2 thread counts x (warm-up + 1 run), plus the header
+file(STRINGS ${WORK_DIR}/results/runs.csv lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 49)
+  message(FATAL_ERROR "runs.csv has ${n} lines, expected 49")
+endif()
+file(GLOB leftovers ${WORK_DIR}/results/*.tmp* ${WORK_DIR}/cache/*.tmp*)
+if(leftovers)
+  message(FATAL_ERROR "temporary files left behind: ${leftovers}")
+endif()

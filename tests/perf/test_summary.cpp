@@ -1,0 +1,87 @@
+// The harness's arithmetic: the Amdahl fit of the serial fraction, medians and spreads of
+// runs, and the per-scene figures drawn from them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "harness/report.h"
+#include "harness/summary.h"
+
+using namespace mccd;
+using namespace mccd::bench;
+
+namespace {
+
+RunRecord run(const std::string& scene, Method m, int threads, int index, double ms) {
+  RunRecord r;
+  r.scene = scene, r.method = m, r.threads = threads, r.run = index, r.steps = 4, r.intervals = 2, r.wall_ms = 2 * ms;
+  r.sum.t_update = 2e-3 * ms / 4;  // a quarter of the step
+  r.sum.volume_tests = m == Method::Traverse ? 4000 : 2400;
+  r.sum.vf_tests = 300, r.sum.ee_tests = 500, r.sum.vf_contacts = 30, r.sum.ee_contacts = 10;
+  r.rebuilds = 2, r.rebuild_front = 1600, r.rebuild_adjacent = 400, r.max_front_bytes = 3'000'000;
+  return r;
+}
+
+}  // namespace
+
+TEST(HarnessSummary, SerialFractionFromTwoThreadCounts) {
+  // T(2) = 0.6 T(1): s = 2 * 0.6 - 1 = 0.2
+  EXPECT_NEAR(serial_fraction({{1, 100}, {2, 60}}), 0.2, 1e-12);
+  EXPECT_NEAR(amdahl_speedup(0.2, 16), 1 / (0.2 + 0.8 / 16), 1e-12);
+  EXPECT_NEAR(amdahl_speedup(0.0, 16), 16, 1e-12);
+  // slower on two threads than on one: everything serial; faster than linear: nothing
+  EXPECT_EQ(serial_fraction({{1, 100}, {2, 120}}), 1.0);
+  EXPECT_EQ(serial_fraction({{1, 100}, {2, 40}}), 0.0);
+  EXPECT_TRUE(std::isnan(serial_fraction({{2, 60}})));
+  EXPECT_TRUE(std::isnan(serial_fraction({{1, 60}})));
+}
+
+TEST(HarnessSummary, SerialFractionFitsExactAmdahlData) {
+  const double s = 0.07;
+  std::vector<std::pair<int, double>> points;
+  for (int p : {1, 2, 3, 4, 8, 16}) points.emplace_back(p, 50 * (s + (1 - s) / p));
+  EXPECT_NEAR(serial_fraction(points), s, 1e-12);
+}
+
+TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
+  std::vector<RunRecord> runs;
+  for (Method m : {Method::Traverse, Method::Phc, Method::Fbd})
+    for (int t : {1, 2}) {
+      const double base = (m == Method::Fbd ? 10.0 : 20.0) / (t == 1 ? 1.0 : 1.6);
+      runs.push_back(run("s", m, t, 0, 1000));  // the warm-up never counts in the times
+      for (int k = 1; k <= 3; ++k) runs.push_back(run("s", m, t, k, base * (1 + 0.1 * (k - 2))));
+    }
+  const std::vector<VariantSummary> v = summarize(runs);
+  ASSERT_EQ(v.size(), 6u);
+  const VariantSummary& fbd1 = v[4];
+  EXPECT_EQ(fbd1.method, Method::Fbd);
+  EXPECT_EQ(fbd1.runs, 3);
+  EXPECT_NEAR(fbd1.median_ms[kStep], 10.0, 1e-9);  // per frame interval: 2 intervals
+  EXPECT_NEAR(fbd1.min_ms, 9.0, 1e-9);
+  EXPECT_NEAR(fbd1.max_ms, 11.0, 1e-9);
+  EXPECT_NEAR(fbd1.median_ms[kUpdate], 2.5, 1e-9);
+
+  Workload w;
+  w.name = "s";
+  w.mesh.faces.resize(12);
+  w.positions.resize(5);
+  w.intervals = 4;
+  const SceneSummary s = summarize_scene(w, v);
+  EXPECT_EQ(s.method, Method::Fbd);
+  ASSERT_EQ(s.threads, (std::vector<int>{1, 2}));
+  EXPECT_NEAR(s.serial[kStep], 2 / 1.6 - 1, 1e-9);
+  EXPECT_NEAR(s.volume_tests_traverse, 1000, 1e-9);
+  EXPECT_NEAR(s.volume_tests_method, 600, 1e-9);
+  EXPECT_NEAR(s.front_nodes, 800, 1e-9);
+  EXPECT_NEAR(s.front_adjacent, 200, 1e-9);
+  EXPECT_NEAR(s.front_mb, 3.0, 1e-12);
+  EXPECT_NEAR(s.elementary_tests / s.contacts, 20.0, 1e-9);
+  EXPECT_NEAR(s.phc_ms_1, 20.0, 1e-9);
+}
+
+TEST(HarnessReport, MachineNameIsAFolderName) {
+  const std::string name = default_machine_name();
+  EXPECT_FALSE(name.empty());
+  for (char c : name) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.') << name;
+  EXPECT_EQ(name.back(), 't');
+}
