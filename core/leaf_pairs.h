@@ -78,28 +78,32 @@ class LeafPairs {
     ++out.stats.leaf_pairs;
     // Every feature of s and t lies in its triangle during each piece of the step: when the
     // triangles' piece volumes never meet, no feature pair below can pass its own test.
-    if (swept_.faces_quarter(s, t) < 0) return;
+    const unsigned quarters = swept_.faces_quarters(s, t);
+    if (!quarters) return;
     const Triangle& S = topo_.faces()[s];
     const Triangle& T = topo_.faces()[t];
     const Carriers::TriangleFirsts& fs = carriers_.firsts(s);
     const Carriers::TriangleFirsts& ft = carriers_.firsts(t);
     for (int k = 0; k < 3; ++k)
-      if (carriers_.carries_vf(S[k], fs.corner[k], s, t)) test_vf(S[k], t, out);
+      if (carriers_.carries_vf(S[k], fs.corner[k], s, t)) test_vf(S[k], t, out, quarters);
     for (int k = 0; k < 3; ++k)
-      if (carriers_.carries_vf(T[k], ft.corner[k], t, s)) test_vf(T[k], s, out);
+      if (carriers_.carries_vf(T[k], ft.corner[k], t, s)) test_vf(T[k], s, out, quarters);
     const auto& es = topo_.face_edges(s);
     const auto& et = topo_.face_edges(t);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        if (carriers_.carries_ee(es[i], fs.edge[i], s, et[j], ft.edge[j], t)) test_ee(es[i], et[j], out);
+        if (carriers_.carries_ee(es[i], fs.edge[i], s, et[j], ft.edge[j], t)) test_ee(es[i], et[j], out, quarters);
   }
 
   /// Vertex v against face f, behind the feature-volume tests.
-  void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out) const {
+  /// `within`: the quarters where a triangle of v and f meet (from process()), all four
+  /// otherwise; the feature's own quarters are a subset (its volumes lie inside the
+  /// triangles'), so only those are tested and the mask is the same either way.
+  void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out, unsigned within = 0xF) const {
     if (query_.stopped()) return;
     ++out.stats.feature_box_tests;
     if (!swept_.vertex(v).overlaps(swept_.face(f))) return;
-    const unsigned pieces = swept_.vertex_face_quarters(v, f);
+    const unsigned pieces = swept_.vertex_face_quarters(v, f, within);
     if (!pieces) return;
     const Triangle& t = topo_.faces()[f];
     CcdPoints p;
@@ -116,13 +120,13 @@ class LeafPairs {
   }
 
   /// Edges a and b (sharing no vertex), behind the feature-volume tests.
-  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out, unsigned within = 0xF) const {
     if (a > b) std::swap(a, b);
     ++out.stats.feature_box_tests;
     if (!swept_.edge(a).overlaps(swept_.edge(b))) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
-    const unsigned pieces = swept_.edges_quarters(ea, eb);
+    const unsigned pieces = swept_.edges_quarters(ea, eb, within);
     if (!pieces) return;
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);

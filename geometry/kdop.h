@@ -111,7 +111,7 @@ struct Dop {
   /// True when the slabs intersect along every axis (touching counts as overlapping).
   /// The 18-DOP's 9 slabs go 4 + 4 at a time in SSE2 registers (every x86-64 has SSE2), the
   /// last one and the AABB's scalar; a NaN bound compares false either way.
-  bool overlaps(const Dop& o) const {
+  [[gnu::always_inline]] bool overlaps(const Dop& o) const {
 #if defined(__SSE2__)
     if constexpr (Slabs == 9) {
       const __m128 sep0 = _mm_or_ps(_mm_cmpgt_ps(_mm_loadu_ps(lo), _mm_loadu_ps(o.hi)),

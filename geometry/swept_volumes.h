@@ -4,11 +4,11 @@
 ///
 /// A vertex moves on a segment from x0 to x1; its volume bounds that segment (inflated by the
 /// minimum distance). A face's volume is the merge of its three vertex volumes and contains the
-/// swept triangle; an edge's likewise. Time pieces: the halves [0, 1/2], [1/2, 1] (pieces 0, 1)
-/// and the quarters [k/4, (k+1)/4] (pieces 2..5). A contact at time t lies in both features'
-/// volumes of every piece holding t, so two features can only meet when, for some half h, the
-/// half volumes overlap and one of that half's two quarter volumes overlap
-/// (first_meeting_quarter).
+/// swept triangle; an edge's likewise. Time pieces: the quarters [q/4, (q+1)/4] of the step,
+/// each bounding the straight path between two computed points. A contact at time t lies in
+/// both features' volumes of every quarter holding t, so two features can only meet in the
+/// quarters where their quarter volumes overlap (meeting_quarters). Halves tested first cost
+/// more tests and memory than they save.
 ///
 /// Consistency invariant that makes every method return identical contacts: every feature
 /// pair reaches the elementary test only after the overlap of its *feature volumes* (merges
@@ -29,35 +29,31 @@
 namespace mccd::detail {
 
 template <BoundingVolume BV>
-using PieceVolumes = std::array<BV, 6>;
+using PieceVolumes = std::array<BV, 4>;
 
 /// The quarters q of the step (bit q, 0..3) in which two features may meet (see the file
-/// comment), 0 when they cannot meet at all, given `overlap(k)`: whether their volumes of
-/// piece k overlap (a quarter is only tested when its half overlaps).
+/// comment), 0 when they cannot meet at all, given `overlap(q)`: whether their volumes of
+/// quarter q overlap; only the quarters in `within` are tested.
 template <class Overlap>
-inline unsigned meeting_quarters(const Overlap& overlap) {
+inline unsigned meeting_quarters(const Overlap& overlap, unsigned within = 0xF) {
   unsigned mask = 0;
-  for (int h = 0; h < 2; ++h)
-    if (overlap(h)) mask |= (overlap(2 + 2 * h) ? 1u : 0u) << (2 * h) | (overlap(3 + 2 * h) ? 2u : 0u) << (2 * h);
+  for (int q = 0; q < 4; ++q)
+    if ((within >> q & 1u) && overlap(q)) mask |= 1u << q;
   return mask;
 }
 
-/// The first quarter in which two features may meet, -1 when never (lazily: stops at the
-/// first one found).
+/// The first quarter in which two features may meet, -1 when never (stops at the first).
 template <class Overlap>
 inline int first_meeting_quarter(const Overlap& overlap) {
-  for (int h = 0; h < 2; ++h)
-    if (overlap(h)) {
-      if (overlap(2 + 2 * h)) return 2 * h;
-      if (overlap(3 + 2 * h)) return 2 * h + 1;
-    }
+  for (int q = 0; q < 4; ++q)
+    if (overlap(q)) return q;
   return -1;
 }
 
 template <BoundingVolume BV>
 inline PieceVolumes<BV> merged_pieces(const PieceVolumes<BV>& a, const PieceVolumes<BV>& b) {
   PieceVolumes<BV> m;
-  for (int k = 0; k < 6; ++k) m[k] = BV::merged(a[k], b[k]);
+  for (int k = 0; k < 4; ++k) m[k] = BV::merged(a[k], b[k]);
   return m;
 }
 
@@ -94,16 +90,11 @@ class SweptVolumes {
       if (min_distance > 0) d.inflate(min_distance);
       vertex_[v] = d;
       const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
-      auto piece = [&](int from, int to) {
-        BV h = at[from];
-        for (int k = from + 1; k <= to; ++k) h.merge(at[k]);
-        h.inflate(margin);
-        return h;
-      };
       PieceVolumes<BV>& p = vertex_pieces_[v];
-      p[0] = piece(0, 2);
-      p[1] = piece(2, 4);
-      for (int k = 0; k < 4; ++k) p[2 + k] = piece(k, k + 1);
+      for (int q = 0; q < 4; ++q) {
+        p[q] = BV::merged(at[q], at[q + 1]);
+        p[q].inflate(margin);
+      }
     }
   }
 
@@ -134,19 +125,20 @@ class SweptVolumes {
 
   /// Piece tests (see the file comment), only after the whole-step volumes overlap: the
   /// quarters in which the two may meet (a bit mask), or the first one (-1 when never).
-  unsigned vertex_face_quarters(std::uint32_t v, std::uint32_t f) const {
+  unsigned vertex_face_quarters(std::uint32_t v, std::uint32_t f, unsigned within = 0xF) const {
     const auto &a = vertex_pieces_[v], &b = face_pieces_[f];
+    return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); }, within);
+  }
+  unsigned faces_quarters(std::uint32_t s, std::uint32_t t) const {
+    const auto &a = face_pieces_[s], &b = face_pieces_[t];
     return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); });
   }
-  int faces_quarter(std::uint32_t s, std::uint32_t t) const {
-    const auto &a = face_pieces_[s], &b = face_pieces_[t];
-    return first_meeting_quarter([&](int k) { return a[k].overlaps(b[k]); });
-  }
   /// Edge pieces are merged on demand, only for the pieces consulted.
-  unsigned edges_quarters(const Edge& ea, const Edge& eb) const {
+  unsigned edges_quarters(const Edge& ea, const Edge& eb, unsigned within = 0xF) const {
     const auto &a0 = vertex_pieces_[ea[0]], &a1 = vertex_pieces_[ea[1]];
     const auto &b0 = vertex_pieces_[eb[0]], &b1 = vertex_pieces_[eb[1]];
-    return meeting_quarters([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); });
+    return meeting_quarters([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); },
+                            within);
   }
 
  private:
