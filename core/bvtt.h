@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/leaf_pieces.h>
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
@@ -24,9 +25,9 @@ namespace mccd::detail {
 template <BoundingVolume BV, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const SceneTopology& scene, const Leaf& leaf,
-       const QueryState& query)
-      : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
+  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const LeafPieces<BV>& pieces, const SceneTopology& scene,
+       const Leaf& leaf, const QueryState& query)
+      : bvh_(bvh), volumes_(volumes), pieces_(pieces), scene_(scene), leaf_(leaf), query_(query) {}
 
   const BvhTopology& bvh() const { return bvh_; }
 
@@ -136,13 +137,17 @@ class Bvtt {
     return ma != BvhTopology::kMixed && mb != BvhTopology::kMixed && scene_.skips(ma, mb);
   }
 
+  /// Overlapping leaves: of several triangles, only when they meet in some quarter of the step
+  /// (core/leaf_pieces.h), and only in those quarters below.
   void process_leaves(const NodePair& n, WorkerOutput& out) const {
-    leaf_.process_leaves(bvh_.leaf_triangles(n.a), bvh_.leaf_count(n.a), bvh_.leaf_triangles(n.b),
-                         bvh_.leaf_count(n.b), out);
+    const std::uint32_t na = bvh_.leaf_count(n.a), nb = bvh_.leaf_count(n.b);
+    const unsigned within = na > 1 || nb > 1 ? pieces_.quarters(n.a, n.b) : 0xFu;
+    if (within) leaf_.process_leaves(bvh_.leaf_triangles(n.a), na, bvh_.leaf_triangles(n.b), nb, out, within);
   }
 
   const BvhTopology& bvh_;
   const std::vector<BV>& volumes_;
+  const LeafPieces<BV>& pieces_;
   const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;

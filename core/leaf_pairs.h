@@ -56,29 +56,30 @@ class LeafPairs {
   /// triangles' own volume test (skipped with one triangle per leaf, where the leaf volumes
   /// are the triangle volumes). Testing each triangle against the other leaf first does not
   /// pay: the triangles of overlapping leaves nearly always overlap the other leaf.
+  /// `within`: the quarters in which the two leaves meet.
   void process_leaves(const std::uint32_t* a, std::uint32_t na, const std::uint32_t* b, std::uint32_t nb,
-                      WorkerOutput& out) const {
+                      WorkerOutput& out, unsigned within = 0xF) const {
     if (na == 1 && nb == 1) {
       process(a[0], b[0], out);
       return;
     }
     for (std::uint32_t i = 0; i < na; ++i)
-      for (std::uint32_t j = 0; j < nb; ++j) process_if_overlapping(a[i], b[j], out);
+      for (std::uint32_t j = 0; j < nb; ++j) process_if_overlapping(a[i], b[j], out, within);
   }
 
   /// A non-adjacent triangle pair (s, t) if their volumes overlap (adjacent pairs are skipped).
-  void process_if_overlapping(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
+  void process_if_overlapping(std::uint32_t s, std::uint32_t t, WorkerOutput& out, unsigned within = 0xF) const {
     if (topo_.adjacent(s, t)) return;
     ++out.stats.triangle_tests;
-    if (swept_.face(s).overlaps(swept_.face(t))) process(s, t, out);
+    if (swept_.face(s).overlaps(swept_.face(t))) process(s, t, out, within);
   }
 
   /// The feature pairs carried by the non-adjacent, overlapping triangle pair (s, t).
-  void process(std::uint32_t s, std::uint32_t t, WorkerOutput& out) const {
+  void process(std::uint32_t s, std::uint32_t t, WorkerOutput& out, unsigned within = 0xF) const {
     ++out.stats.leaf_pairs;
     // Every feature of s and t lies in its triangle during each piece of the step: when the
     // triangles' piece volumes never meet, no feature pair below can pass its own test.
-    const unsigned quarters = swept_.faces_quarters(s, t);
+    const unsigned quarters = swept_.faces_quarters(s, t, within);
     if (!quarters) return;
     const Triangle& S = topo_.faces()[s];
     const Triangle& T = topo_.faces()[t];

@@ -70,6 +70,7 @@ class Stepper {
   RefitPlan refit_plan_;
   std::vector<BV> nodes_;  ///< one volume per BVH node
   SweptVolumes<BV> swept_;
+  LeafPieces<BV> leaf_pieces_;
   QueryState query_;
   Leaf leaf_;
   Bvtt<BV, Leaf> bvtt_;

@@ -122,6 +122,7 @@ class SweptVolumes {
   const BV& vertex(std::uint32_t v) const { return vertex_[v]; }
   const BV& edge(std::uint32_t e) const { return edge_[e]; }
   const BV& face(std::uint32_t f) const { return face_[f]; }
+  const PieceVolumes<BV>& face_pieces(std::uint32_t f) const { return face_pieces_[f]; }
 
   /// Piece tests (see the file comment), only after the whole-step volumes overlap: the
   /// quarters in which the two may meet (a bit mask), or the first one (-1 when never).
@@ -129,9 +130,9 @@ class SweptVolumes {
     const auto &a = vertex_pieces_[v], &b = face_pieces_[f];
     return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); }, within);
   }
-  unsigned faces_quarters(std::uint32_t s, std::uint32_t t) const {
+  unsigned faces_quarters(std::uint32_t s, std::uint32_t t, unsigned within = 0xF) const {
     const auto &a = face_pieces_[s], &b = face_pieces_[t];
-    return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); });
+    return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); }, within);
   }
   /// Edge pieces are merged on demand, only for the pieces consulted.
   unsigned edges_quarters(const Edge& ea, const Edge& eb, unsigned within = 0xF) const {
