@@ -109,7 +109,7 @@ class LeafPairs {
     const Triangle& t = topo_.faces()[f];
     CcdPoints p;
     load({v, t[0], t[1], t[2]}, p);
-    const unsigned quarters = pieces & coplanar_quarters(CcdKind::VertexFace, p, narrow_.options.min_distance);
+    const unsigned quarters = coplanar_quarters(CcdKind::VertexFace, p, narrow_.options.min_distance, pieces);
     if (!quarters) {
       ++out.stats.vf_filtered;
       return;
@@ -131,7 +131,7 @@ class LeafPairs {
     if (!pieces) return;
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);
-    const unsigned quarters = pieces & coplanar_quarters(CcdKind::EdgeEdge, p, narrow_.options.min_distance);
+    const unsigned quarters = coplanar_quarters(CcdKind::EdgeEdge, p, narrow_.options.min_distance, pieces);
     if (!quarters) {
       ++out.stats.ee_filtered;
       return;

@@ -4,10 +4,10 @@
 
 namespace mccd::detail {
 
-unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance) {
+unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within) {
   Setup<double> S;
   S.kind = kind;
-  if (load(p, min_distance > 0 ? min_distance : 0.0, S) != Load::Ok) return 0xF;
+  if (load(p, min_distance > 0 ? min_distance : 0.0, S) != Load::Ok) return within;
   // The cubic f = a . (b x c) of ccd_stages.h coplanarity(), without what only stage (c)
   // needs: VF a = A, b = B, c = C (corners minus the vertex); EE a = w, b = da, c = db.
   using V = V3<double>;
@@ -35,10 +35,11 @@ unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance
   const double eh = split_half(f, ef, h[0], h[1]);
   unsigned mask = 0;
   for (int i = 0; i < 2; ++i) {
-    if (definite_sign(h[i], eh + dN) != 0) continue;
+    const unsigned half = within >> (2 * i) & 3u;
+    if (!half || definite_sign(h[i], eh + dN) != 0) continue;
     const double eq = split_half(h[i], eh, q[2 * i], q[2 * i + 1]);
     for (int j = 0; j < 2; ++j)
-      if (definite_sign(q[2 * i + j], eq + dN) == 0) mask |= 1u << (2 * i + j);
+      if ((half >> j & 1u) && definite_sign(q[2 * i + j], eq + dN) == 0) mask |= 1u << (2 * i + j);
   }
   return mask;
 }

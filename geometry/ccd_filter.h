@@ -16,8 +16,9 @@
 namespace mccd::detail {
 
 /// Bit q (q = 0..3) set when the points may be coplanar (within `min_distance`) at some t in
-/// [q/4, (q+1)/4]. All four bits when the input cannot be analysed (non-finite or out of the
+/// [q/4, (q+1)/4], among the quarters of `within` (the others are not examined: their bits
+/// are 0). All bits of `within` when the input cannot be analysed (non-finite or out of the
 /// exact scaling range): never clears a quarter it cannot prove empty.
-unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance);
+unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF);
 
 }  // namespace mccd::detail

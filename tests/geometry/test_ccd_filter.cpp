@@ -73,6 +73,8 @@ TEST(CcdFilter, ClearsPairsThatAreNeverCoplanar) {
   p.end[0] = Vec3(0.3, 0.3, -0.6);
   p.end[1].z() = p.end[2].z() = p.end[3].z() = 0;
   EXPECT_EQ(coplanar_quarters(CcdKind::VertexFace, p, 0.0), 4u);
+  EXPECT_EQ(coplanar_quarters(CcdKind::VertexFace, p, 0.0, 0b1011u), 0u);  // quarter 2 not asked for
+  EXPECT_EQ(coplanar_quarters(CcdKind::VertexFace, p, 0.0, 0b0110u), 4u);
   // within a distance larger than the motion: every quarter
   EXPECT_EQ(coplanar_quarters(CcdKind::VertexFace, p, 10.0), 15u);
 }
