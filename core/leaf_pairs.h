@@ -89,11 +89,17 @@ class LeafPairs {
       if (carriers_.carries_vf(S[k], fs.corner[k], s, t)) test_vf(S[k], t, out, quarters);
     for (int k = 0; k < 3; ++k)
       if (carriers_.carries_vf(T[k], ft.corner[k], t, s)) test_vf(T[k], s, out, quarters);
+    // The edges' quarter volumes are merged once per edge here, not once per edge pair.
     const auto& es = topo_.face_edges(s);
     const auto& et = topo_.face_edges(t);
+    EdgePieces ps[3], pt[3];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        if (carriers_.carries_ee(es[i], fs.edge[i], s, et[j], ft.edge[j], t)) test_ee(es[i], et[j], out, quarters);
+        if (carriers_.carries_ee(es[i], fs.edge[i], s, et[j], ft.edge[j], t)) {
+          if (!ps[i].ready) ps[i].merge(swept_, topo_.edges()[es[i]], quarters);
+          if (!pt[j].ready) pt[j].merge(swept_, topo_.edges()[et[j]], quarters);
+          test_ee(es[i], et[j], ps[i].pieces, pt[j].pieces, out, quarters);
+        }
   }
 
   /// Vertex v against face f, behind the feature-volume tests.
@@ -121,13 +127,23 @@ class LeafPairs {
   }
 
   /// Edges a and b (sharing no vertex), behind the feature-volume tests.
-  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out, unsigned within = 0xF) const {
+  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+    EdgePieces pa, pb;
+    pa.merge(swept_, topo_.edges()[a], 0xF);
+    pb.merge(swept_, topo_.edges()[b], 0xF);
+    test_ee(a, b, pa.pieces, pb.pieces, out, 0xF);
+  }
+
+  /// The same with the edges' quarter volumes already merged (at least the quarters of
+  /// `within`).
+  void test_ee(std::uint32_t a, std::uint32_t b, const PieceVolumes<BV>& pa, const PieceVolumes<BV>& pb,
+               WorkerOutput& out, unsigned within) const {
     if (a > b) std::swap(a, b);
     ++out.stats.feature_box_tests;
     if (!swept_.edge(a).overlaps(swept_.edge(b))) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
-    const unsigned pieces = swept_.edges_quarters(ea, eb, within);
+    const unsigned pieces = meeting_quarters([&](int q) { return pa[q].overlaps(pb[q]); }, within);
     if (!pieces) return;
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);
@@ -143,6 +159,18 @@ class LeafPairs {
   }
 
  private:
+  /// An edge's quarter volumes: the merge of its two vertices' (only the quarters asked for).
+  struct EdgePieces {
+    PieceVolumes<BV> pieces;
+    bool ready = false;
+    void merge(const SweptVolumes<BV>& swept, const Edge& e, unsigned within) {
+      const PieceVolumes<BV>&a = swept.vertex_pieces(e[0]), &b = swept.vertex_pieces(e[1]);
+      for (int q = 0; q < 4; ++q)
+        if (within >> q & 1u) pieces[q] = BV::merged(a[q], b[q]);
+      ready = true;
+    }
+  };
+
   /// Whether a pair that passed its volume tests goes to the narrow phase. Earliest queries
   /// skip pairs that cannot meet before the best time found so far; candidate queries collect
   /// the pair instead, with the start of its first meeting quarter as the time.

@@ -84,8 +84,20 @@ struct Dop {
     }
   }
 
-  /// Grows the volume to contain `o`.
+  /// Grows the volume to contain `o` (SSE2 min / max, 4 slabs at a time, for the 18-DOP; the
+  /// same comparisons as the loop, so NaN bounds behave alike).
   void merge(const Dop& o) {
+#if defined(__SSE2__)
+    if constexpr (Slabs == 9) {
+      for (int i = 0; i < 8; i += 4) {
+        _mm_storeu_ps(lo + i, _mm_min_ps(_mm_loadu_ps(o.lo + i), _mm_loadu_ps(lo + i)));
+        _mm_storeu_ps(hi + i, _mm_max_ps(_mm_loadu_ps(o.hi + i), _mm_loadu_ps(hi + i)));
+      }
+      lo[8] = o.lo[8] < lo[8] ? o.lo[8] : lo[8];
+      hi[8] = o.hi[8] > hi[8] ? o.hi[8] : hi[8];
+      return;
+    }
+#endif
     for (int i = 0; i < Slabs; ++i) {
       lo[i] = o.lo[i] < lo[i] ? o.lo[i] : lo[i];
       hi[i] = o.hi[i] > hi[i] ? o.hi[i] : hi[i];

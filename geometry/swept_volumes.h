@@ -123,6 +123,7 @@ class SweptVolumes {
   const BV& edge(std::uint32_t e) const { return edge_[e]; }
   const BV& face(std::uint32_t f) const { return face_[f]; }
   const PieceVolumes<BV>& face_pieces(std::uint32_t f) const { return face_pieces_[f]; }
+  const PieceVolumes<BV>& vertex_pieces(std::uint32_t v) const { return vertex_pieces_[v]; }
 
   /// Piece tests (see the file comment), only after the whole-step volumes overlap: the
   /// quarters in which the two may meet (a bit mask), or the first one (-1 when never).
@@ -133,13 +134,6 @@ class SweptVolumes {
   unsigned faces_quarters(std::uint32_t s, std::uint32_t t, unsigned within = 0xF) const {
     const auto &a = face_pieces_[s], &b = face_pieces_[t];
     return meeting_quarters([&](int k) { return a[k].overlaps(b[k]); }, within);
-  }
-  /// Edge pieces are merged on demand, only for the pieces consulted.
-  unsigned edges_quarters(const Edge& ea, const Edge& eb, unsigned within = 0xF) const {
-    const auto &a0 = vertex_pieces_[ea[0]], &a1 = vertex_pieces_[ea[1]];
-    const auto &b0 = vertex_pieces_[eb[0]], &b1 = vertex_pieces_[eb[1]];
-    return meeting_quarters([&](int k) { return BV::merged(a0[k], a1[k]).overlaps(BV::merged(b0[k], b1[k])); },
-                            within);
   }
 
  private:

@@ -83,7 +83,7 @@ TEST(Kdop, FloatStepsMatchNextafter) {
   }
 }
 
-TEST(Kdop, OverlapEqualsTheSlabDefinition) {
+TEST(Kdop, OverlapAndMergeEqualTheSlabDefinitions) {
   // The vectorised test against the definition, slab by slab, on random volumes that often
   // touch exactly, with infinities and NaN bounds thrown in.
   std::mt19937 rng(11);
@@ -104,6 +104,12 @@ TEST(Kdop, OverlapEqualsTheSlabDefinition) {
     bool sep = false;
     for (int i = 0; i < 9; ++i) sep = sep || a.lo[i] > b.hi[i] || b.lo[i] > a.hi[i];
     ASSERT_EQ(a.overlaps(b), !sep) << n;
+    Kdop18 m = a;
+    m.merge(b);
+    for (int i = 0; i < 9; ++i) {
+      const float lo = b.lo[i] < a.lo[i] ? b.lo[i] : a.lo[i], hi = b.hi[i] > a.hi[i] ? b.hi[i] : a.hi[i];
+      ASSERT_TRUE(std::memcmp(&m.lo[i], &lo, 4) == 0 && std::memcmp(&m.hi[i], &hi, 4) == 0) << n << " slab " << i;
+    }
     overlaps += !sep;
   }
   EXPECT_GT(overlaps, 0);
