@@ -63,6 +63,7 @@ class LeafPairs {
       process(a[0], b[0], out);
       return;
     }
+    if (too_late(within)) return;
     for (std::uint32_t i = 0; i < na; ++i)
       for (std::uint32_t j = 0; j < nb; ++j) process_if_overlapping(a[i], b[j], out, within);
   }
@@ -80,7 +81,7 @@ class LeafPairs {
     // Every feature of s and t lies in its triangle during each piece of the step: when the
     // triangles' piece volumes never meet, no feature pair below can pass its own test.
     const unsigned quarters = swept_.faces_quarters(s, t, within);
-    if (!quarters) return;
+    if (!quarters || too_late(quarters)) return;
     const Triangle& S = topo_.faces()[s];
     const Triangle& T = topo_.faces()[t];
     const Carriers::TriangleFirsts& fs = carriers_.firsts(s);
@@ -159,6 +160,11 @@ class LeafPairs {
   }
 
  private:
+  /// An earliest-impact query skips what cannot meet before the best time found so far.
+  bool too_late(unsigned quarters) const {
+    return query_.kind() == StepKind::Earliest && 0.25 * std::countr_zero(quarters) >= query_.best();
+  }
+
   /// An edge's quarter volumes: the merge of its two vertices' (only the quarters asked for).
   struct EdgePieces {
     PieceVolumes<BV> pieces;

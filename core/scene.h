@@ -80,6 +80,9 @@ class Scene {
   double earliest_impact(const PositionsView& start, const PositionsView& end, StepStats* stats = nullptr) {
     return earliest_impact(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, stats);
   }
+  std::vector<Contact> candidates(const PositionsView& start, const PositionsView& end, StepStats* stats = nullptr) {
+    return candidates(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, stats);
+  }
 
   std::size_t num_meshes() const;
   const TriMesh& mesh(std::size_t i) const;       ///< with its initial positions
