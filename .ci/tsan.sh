@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tbb_prefix=$(bash .ci/tbb-tsan.sh | tail -1)
 tbb_dir=$(dirname "$(find "$tbb_prefix" -name TBBConfig.cmake | head -1)")
-cmake -S . -B build-tsan -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DMCCD_SANITIZE=thread -DTBB_DIR="$tbb_dir" -DMCCD_BUILD_PERF=OFF
 cmake --build build-tsan -j2 --target mccd_tests
 # The instrumented TBB, not the system one, must be the one loaded.

@@ -84,7 +84,7 @@ TriMesh parse_obj(const std::string& path, std::string_view text) {
           idx -= 1;
         }
         if (idx > static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max() - 1))
-          throw Error(at(lines.line_no()) + ": vertex index " + std::string(num) + " is too large");
+          throw Error(at(lines.line_no()) + ": vertex index " + quote_tok(num) + " is too large");
         poly.push_back(idx);
       }
       if (poly.size() < 3)

@@ -677,7 +677,7 @@ TEST(ObjReaderErrors, Everything) {
   EXPECT_EQ(err(v3 + "f 1 2 3x/1\n"), p + ": line 4: expected a vertex index (a, a/b, a//c or a/b/c) in face, got '3x/1'");
   EXPECT_EQ(err(v3 + "f 1 2 1\n"), p + ": line 4: face: repeated vertex index (0, 1, 0)");
   EXPECT_EQ(err(v3 + "f 1 2 4\n# later\n"), p + ": line 4: vertex index 4 out of range [1, 3]");
-  EXPECT_EQ(err(v3 + "f 1 2 99999999999\n"), p + ": line 4: vertex index 99999999999 is too large");
+  EXPECT_EQ(err(v3 + "f 1 2 99999999999\n"), p + ": line 4: vertex index '99999999999' is too large");
   const std::string missing = dir.file("missing.obj");
   EXPECT_ERROR_CONTAINS(read_obj(missing), missing + ": cannot open");
 }
