@@ -8,13 +8,14 @@
 
 #include <mccd/geometry/atomic_file.h>
 #include <mccd/geometry/mesh_io_detail.h>
+#include <mccd/geometry/parsers.h>
 #include <mccd/geometry/text_scan.h>
 
 namespace mccd {
 
 using namespace detail;
 
-namespace {
+namespace detail {
 
 TriMesh parse_obj(const std::string& path, std::string_view text) {
   if (all_space(text)) throw Error(path + ": empty file");
@@ -27,24 +28,39 @@ TriMesh parse_obj(const std::string& path, std::string_view text) {
   std::size_t num_v = 0;
   bool any_statement = false;
   auto at = [&](std::size_t line_no) { return path + ": line " + std::to_string(line_no); };
+  auto value_name = [](int k) { return k < 3 ? std::string("coordinate ") + "xyz"[k] : "value " + std::to_string(k + 1); };
 
   while (lines.next(line)) {
     Tokens toks(line);
     if (!toks.next(tok) || tok.front() == '#') continue;
     if (tok == "v") {
       any_statement = true;
+      // x y z, then optionally w (a weight: used by rational curves and surfaces only), or
+      // r g b (the vertex colours some tools write); those are checked, then ignored.
       double c[3];
-      for (int k = 0; k < 3; ++k) {
-        if (!toks.next(tok))
-          throw Error(at(lines.line_no()) + ": expected 3 coordinates for vertex " + std::to_string(num_v + 1) +
-                      ", got " + std::to_string(k));
-        if (!parse_double(tok, c[k]))
-          throw Error(at(lines.line_no()) + ": expected a number for coordinate " + "xyz"[k] + " of vertex " +
-                      std::to_string(num_v + 1) + ", got " + quote_tok(tok));
-        if (!std::isfinite(c[k]))
-          throw Error(at(lines.line_no()) + ": coordinate " + "xyz"[k] + " of vertex " + std::to_string(num_v + 1) +
-                      " is not finite (" + std::string(tok) + ")");
+      int count = 0;
+      std::string_view bad;
+      while (toks.next(tok) && tok.front() != '#') {
+        double value;
+        if (!parse_double(tok, value)) {
+          bad = tok;
+          break;
+        }
+        if (!std::isfinite(value))
+          throw Error(at(lines.line_no()) + ": " + value_name(count) + " of vertex " + std::to_string(num_v + 1) +
+                      " is not finite (" + quote_tok(tok) + ")");
+        if (count < 3) c[count] = value;
+        ++count;
       }
+      if (!bad.empty())
+        throw Error(at(lines.line_no()) + ": expected a number for " + value_name(count) + " of vertex " +
+                    std::to_string(num_v + 1) + ", got " + quote_tok(bad));
+      if (count < 3)
+        throw Error(at(lines.line_no()) + ": expected 3 coordinates for vertex " + std::to_string(num_v + 1) +
+                    ", got " + std::to_string(count));
+      if (count != 3 && count != 4 && count != 6)
+        throw Error(at(lines.line_no()) + ": vertex " + std::to_string(num_v + 1) + ": expected x y z, x y z w or " +
+                    "x y z r g b, got " + std::to_string(count) + " values");
       xyz.insert(xyz.end(), c, c + 3);
       ++num_v;
     } else if (tok == "f") {
@@ -68,7 +84,7 @@ TriMesh parse_obj(const std::string& path, std::string_view text) {
           idx -= 1;
         }
         if (idx > static_cast<std::int64_t>(std::numeric_limits<std::uint32_t>::max() - 1))
-          throw Error(at(lines.line_no()) + ": vertex index " + std::string(num) + " is too large");
+          throw Error(at(lines.line_no()) + ": vertex index " + quote_tok(num) + " is too large");
         poly.push_back(idx);
       }
       if (poly.size() < 3)
@@ -92,8 +108,7 @@ TriMesh parse_obj(const std::string& path, std::string_view text) {
   return make_mesh(path, std::move(xyz), std::move(faces));
 }
 
-
-}  // namespace
+}  // namespace detail
 
 TriMesh read_obj(const std::string& path) {
   const std::string text = read_all(path);

@@ -16,6 +16,9 @@ Header parse_ply_header(const std::string& path, std::string_view text) {
   auto at = [&] { return path + ": line " + std::to_string(lines.line_no()) + ": "; };
   if (!lines.next(line) || line != "ply")
     throw Error(path + ": header: not a PLY file (the first line must be 'ply')");
+  // Lines end in "\n", "\r\n" or "\r". The header of a binary file written with lone "\r"
+  // ends in one too, even when the first data byte is a "\n": the first line tells which.
+  const bool lone_cr = text.size() > 3 && text[3] == '\r' && (text.size() == 4 || text[4] != '\n');
   bool have_format = false, ended = false;
   while (lines.next(line)) {
     Tokens toks(line);
@@ -78,6 +81,8 @@ Header parse_ply_header(const std::string& path, std::string_view text) {
   if (!ended) throw Error(path + ": header: missing 'end_header'");
   if (!have_format) throw Error(path + ": header: missing 'format' line");
   h.data_offset = lines.offset();
+  const std::size_t line_end = static_cast<std::size_t>(line.data() + line.size() - text.data());
+  if (lone_cr && h.format != Format::Ascii && line_end < text.size() && text[line_end] == '\r') h.data_offset = line_end + 1;
   h.data_line = lines.line_no() + 1;
   return h;
 }

@@ -9,6 +9,7 @@
 
 #include <mccd/geometry/atomic_file.h>
 #include <mccd/geometry/mesh_io_detail.h>
+#include <mccd/geometry/parsers.h>
 #include <mccd/geometry/ply_format.h>
 #include <mccd/geometry/text_scan.h>
 
@@ -114,7 +115,7 @@ void parse_ply_ascii(const std::string& path, std::string_view data, std::size_t
               if (static_cast<int>(p) == L.xyz[k]) {
                 if (!std::isfinite(d))
                   throw Error(where() + "coordinate " + "xyz"[k] + " of vertex " + std::to_string(i) +
-                              " is not finite (" + std::string(tok) + ")");
+                              " is not finite (" + quote_tok(tok) + ")");
                 c[k] = d;
               }
         }
@@ -227,6 +228,10 @@ void parse_ply_binary(const std::string& path, std::string_view data, bool swap,
                 " bytes of unexpected data after the last element: the element counts in the header are wrong");
 }
 
+}  // namespace
+
+namespace detail {
+
 TriMesh parse_ply(const std::string& path, std::string_view text) {
   if (all_space(text)) throw Error(path + ": empty file");
   const Header h = parse_ply_header(path, text);
@@ -246,6 +251,9 @@ TriMesh parse_ply(const std::string& path, std::string_view text) {
   return make_mesh(path, std::move(xyz), std::move(faces));
 }
 
+}  // namespace detail
+
+namespace {
 
 template <class T>
 void put(std::string& out, T v) {

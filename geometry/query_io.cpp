@@ -1,17 +1,20 @@
 // Exact reader of the rational CCD query CSV files (see query_io.h).
 #include <mccd/geometry/query_io.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
-#include <limits>
 #include <string_view>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/parsers.h>
+#include <mccd/geometry/text_scan.h>
 
 namespace mccd {
 namespace {
+
+using detail::quote_tok;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -19,7 +22,7 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// An unsigned decimal integer of any length, reduced to its binary form: the value equals
+// An unsigned decimal integer, reduced to its binary form: the value equals
 // `mantissa * 2^shift` where `mantissa` keeps at most 64 significant bits; `exact` is false
 // when bits were lost (only possible for integers with more than 64 significant bits).
 struct BigDecimal {
@@ -35,8 +38,8 @@ bool all_digits(std::string_view s) {
   return true;
 }
 
-// Parses the digits (no sign). Fast path for up to 19 digits; otherwise repeated halving of
-// the decimal string (quadratic, only for unusually long integers).
+// Parses at most kMaxRationalDigits digits (no sign). Fast path for up to 19 digits; otherwise the
+// digits go into 32-bit binary limbs, nine at a time (at most 45 chunks of 42 limbs).
 BigDecimal parse_unsigned(std::string_view s) {
   BigDecimal out;
   if (s.size() <= 19) {
@@ -45,54 +48,63 @@ BigDecimal parse_unsigned(std::string_view s) {
     out.mantissa = v;
     return out;
   }
-  std::string digits(s);
-  // Bits from least significant upwards.
-  std::vector<bool> bits;
-  auto is_zero = [&] {
-    for (char c : digits)
-      if (c != '0') return false;
-    return true;
-  };
-  while (!is_zero()) {
-    bits.push_back(((digits.back() - '0') & 1) != 0);
-    int carry = 0;
-    for (char& c : digits) {
-      const int cur = carry * 10 + (c - '0');
-      c = static_cast<char>('0' + cur / 2);
-      carry = cur % 2;
+  std::vector<std::uint32_t> limbs;  // least significant first
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = std::min<std::size_t>(9, s.size() - i);
+    std::uint32_t chunk = 0, scale = 1;
+    for (std::size_t k = 0; k < n; ++k, ++i) {
+      chunk = chunk * 10 + static_cast<std::uint32_t>(s[i] - '0');
+      scale *= 10;
     }
+    std::uint64_t carry = chunk;
+    for (std::uint32_t& l : limbs) {
+      const std::uint64_t cur = std::uint64_t{l} * scale + carry;  // < 2^62
+      l = static_cast<std::uint32_t>(cur);
+      carry = cur >> 32;
+    }
+    if (carry) limbs.push_back(static_cast<std::uint32_t>(carry));
   }
-  // Strip trailing zero bits into the shift, keep the top 64 bits.
+  auto bit = [&](std::size_t b) { return (limbs[b / 32] >> (b % 32)) & 1u; };
+  const std::size_t width = 32 * limbs.size();
   std::size_t low = 0;
-  while (low < bits.size() && !bits[low]) ++low;
-  if (low == bits.size()) return out;
-  const std::size_t width = bits.size() - low;
+  while (low < width && !bit(low)) ++low;
+  if (low == width) return out;  // zero
+  std::size_t high = width - 1;
+  while (!bit(high)) --high;
   std::size_t take_from = low;
-  if (width > 64) {
-    take_from = bits.size() - 64;
+  if (high - low + 1 > 64) {
+    take_from = high - 63;
     out.exact = false;
   }
-  for (std::size_t i = bits.size(); i-- > take_from;) out.mantissa = (out.mantissa << 1) | (bits[i] ? 1u : 0u);
+  for (std::size_t b = high + 1; b-- > take_from;) out.mantissa = (out.mantissa << 1) | bit(b);
   out.shift = static_cast<int>(take_from);
   return out;
 }
 
-}  // namespace
+// Refuses an integer field that is not all digits or longer than kMaxRationalDigits (before
+// any conversion work, which is quadratic in the length).
+void check_integer(std::string_view digits, std::string_view field, const char* what, const char* expected) {
+  if (!all_digits(digits)) throw Error(std::string(what) + " " + quote_tok(field) + " is not " + expected);
+  if (digits.size() > kMaxRationalDigits)
+    throw Error(std::string(what) + " " + quote_tok(field) + " has " + std::to_string(digits.size()) +
+                " digits (at most " + std::to_string(kMaxRationalDigits) + " are accepted)");
+}
 
-double rational_to_double(const std::string& numerator, const std::string& denominator) {
+double to_double(std::string_view numerator, std::string_view denominator) {
   std::string_view num = trim(numerator), den = trim(denominator);
+  const std::string_view num_field = num, den_field = den;
   bool negative = false;
   if (!num.empty() && (num.front() == '-' || num.front() == '+')) {
     negative = num.front() == '-';
     num.remove_prefix(1);
   }
-  if (!all_digits(num)) throw Error("numerator '" + std::string(trim(numerator)) + "' is not an integer");
+  check_integer(num, num_field, "numerator", "an integer");
   if (!den.empty() && den.front() == '+') den.remove_prefix(1);
-  if (!all_digits(den)) throw Error("denominator '" + std::string(trim(denominator)) + "' is not a positive integer");
+  check_integer(den, den_field, "denominator", "a positive integer");
   const BigDecimal d = parse_unsigned(den);
   if (d.mantissa == 0) throw Error("denominator is zero");
   if (!d.exact || (d.mantissa & (d.mantissa - 1)) != 0)
-    throw Error("denominator " + std::string(den) + " is not a power of two");
+    throw Error("denominator " + quote_tok(den) + " is not a power of two");
   int den_exp = d.shift;
   for (std::uint64_t m = d.mantissa; m > 1; m >>= 1) ++den_exp;
 
@@ -103,60 +115,66 @@ double rational_to_double(const std::string& numerator, const std::string& denom
     n.mantissa >>= 1;
     ++n.shift;
   }
+  const std::string value = quote_tok(num_field) + "/" + quote_tok(den);
   if (!n.exact || n.mantissa >= (std::uint64_t{1} << 53))
-    throw Error(std::string(negative ? "-" : "") + std::string(num) + "/" + std::string(den) +
-                " is not exactly representable as a double (more than 53 significant bits)");
+    throw Error(value + " is not exactly representable as a double (more than 53 significant bits)");
   const double m = static_cast<double>(n.mantissa);  // exact: < 2^53
   const int e = n.shift - den_exp;
   const double v = std::ldexp(m, e);
-  if (!std::isfinite(v) || std::ldexp(v, -e) != m)
-    throw Error(std::string(negative ? "-" : "") + std::string(num) + "/" + std::string(den) +
-                " is out of the range of doubles");
+  if (!std::isfinite(v) || std::ldexp(v, -e) != m) throw Error(value + " is out of the range of doubles");
   return negative ? -v : v;
 }
 
-std::vector<CcdQuery> read_query_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open");
+}  // namespace
+
+double rational_to_double(const std::string& numerator, const std::string& denominator) {
+  return to_double(numerator, denominator);
+}
+
+namespace detail {
+
+std::vector<CcdQuery> parse_query_csv(const std::string& path, std::string_view text) {
   std::vector<CcdQuery> out;
-  std::string line;
-  std::size_t line_no = 0, row = 0;
+  LineReader lines(text);
+  std::string_view line;
+  std::size_t row = 0;
   int columns = 0;
   CcdQuery current;
   for (int i = 0; i < 4; ++i) current.points.start[i] = current.points.end[i] = Vec3::Zero();
   std::size_t query_first_line = 0;
-  std::vector<std::string> fields;
-  while (std::getline(in, line)) {
-    ++line_no;
-    std::string_view lv = trim(line);
+  std::vector<std::string_view> fields;
+  while (lines.next(line)) {
+    const std::string_view lv = trim(line);
     if (lv.empty()) continue;
+    auto where = [&] { return path + ":" + std::to_string(lines.line_no()) + ": "; };
     fields.clear();
-    std::size_t start = 0;
-    while (true) {
+    for (std::size_t start = 0;;) {
       const std::size_t comma = lv.find(',', start);
-      fields.emplace_back(trim(lv.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+      if (fields.size() == 7)
+        throw Error(where() + "expected 6 or 7 comma-separated columns, got " +
+                    std::to_string(8 + std::count(lv.begin() + static_cast<std::ptrdiff_t>(start), lv.end(), ',')));
+      fields.push_back(trim(lv.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
       if (comma == std::string_view::npos) break;
       start = comma + 1;
     }
-    const std::string where = path + ":" + std::to_string(line_no) + ": ";
     const int cols = static_cast<int>(fields.size());
     if (cols != 6 && cols != 7)
-      throw Error(where + "expected 6 or 7 comma-separated columns, got " + std::to_string(cols));
+      throw Error(where() + "expected 6 or 7 comma-separated columns, got " + std::to_string(cols));
     if (columns == 0) columns = cols;
     if (cols != columns)
-      throw Error(where + "row has " + std::to_string(cols) + " columns, earlier rows have " + std::to_string(columns));
+      throw Error(where() + "row has " + std::to_string(cols) + " columns, earlier rows have " + std::to_string(columns));
     Vec3 point;
     for (int k = 0; k < 3; ++k) {
       try {
-        point[k] = rational_to_double(fields[2 * k], fields[2 * k + 1]);
+        point[k] = to_double(fields[2 * k], fields[2 * k + 1]);
       } catch (const Error& e) {
-        throw Error(where + "column " + std::to_string(2 * k + 1) + "/" + std::to_string(2 * k + 2) + ": " + e.what());
+        throw Error(where() + "column " + std::to_string(2 * k + 1) + "/" + std::to_string(2 * k + 2) + ": " + e.what());
       }
     }
     const std::size_t slot = row % 8;
     if (slot == 0) {
       current.truth = -1;
-      query_first_line = line_no;
+      query_first_line = lines.line_no();
     }
     if (slot < 4)
       current.points.start[slot] = point;
@@ -169,20 +187,27 @@ std::vector<CcdQuery> read_query_csv(const std::string& path) {
       else if (fields[6] == "1")
         truth = 1;
       else
-        throw Error(where + "truth column must be 0 or 1, got '" + fields[6] + "'");
+        throw Error(where() + "truth column must be 0 or 1, got " + quote_tok(fields[6]));
       if (slot == 0)
         current.truth = truth;
       else if (truth != current.truth)
-        throw Error(where + "truth " + std::to_string(truth) + " differs from the query's first row (line " +
+        throw Error(where() + "truth " + std::to_string(truth) + " differs from the query's first row (line " +
                     std::to_string(query_first_line) + ")");
     }
     if (slot == 7) out.push_back(current);
     ++row;
   }
   if (row % 8 != 0)
-    throw Error(path + ":" + std::to_string(line_no) + ": file ends inside a query (" + std::to_string(row) +
+    throw Error(path + ":" + std::to_string(lines.line_no()) + ": file ends inside a query (" + std::to_string(row) +
                 " rows, not a multiple of 8)");
   return out;
+}
+
+}  // namespace detail
+
+std::vector<CcdQuery> read_query_csv(const std::string& path) {
+  const std::string text = detail::read_all(path);
+  return detail::parse_query_csv(path, text);
 }
 
 }  // namespace mccd

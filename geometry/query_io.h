@@ -10,14 +10,22 @@
 /// which is exactly the layout of CcdPoints (start[0..3], end[0..3]).
 ///
 /// Every denominator must be a positive power of two and every value exactly representable
-/// as a double; the conversion is exact (integers of any length are accepted). Anything else
-/// is refused with mccd::Error naming the file and the line.
+/// as a double; the conversion is exact. Integers have at most kMaxRationalDigits digits
+/// (leading zeros included), which every double's reduced form fits in. Lines end in "\n",
+/// "\r\n" or "\r". Anything else is refused with mccd::Error naming the file and the line,
+/// quoting at most the first 40 characters of an offending field.
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include <mccd/geometry/ccd.h>
 
 namespace mccd {
+
+/// The most digits a numerator or denominator may have: a double's reduced form needs at
+/// most 309 (numerator, < 2^1024) and 324 (denominator, 2^1074). Longer integers are
+/// refused before any conversion work.
+inline constexpr std::size_t kMaxRationalDigits = 400;
 
 struct CcdQuery {
   CcdPoints points;
@@ -31,8 +39,9 @@ struct CcdQuery {
 std::vector<CcdQuery> read_query_csv(const std::string& path);
 
 /// Converts one rational given as decimal integer strings to a double, exactly.
-/// Throws mccd::Error (message without location) when the denominator is not a positive
-/// power of two or the value is not exactly representable.
+/// Throws mccd::Error (message without location) when a field is not an integer of at most
+/// kMaxRationalDigits digits, the denominator is not a positive power of two, or the value is
+/// not exactly representable.
 double rational_to_double(const std::string& numerator, const std::string& denominator);
 
 }  // namespace mccd

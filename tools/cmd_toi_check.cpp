@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <unordered_set>
 
 #include <CLI/App.hpp>
 
 #include "command.h"
 #include "options.h"
+#include "toi_truth.h"
 #include <mccd/core/orphans.h>
 #include <mccd/core/scene.h>
 #include <mccd/geometry/error.h>
@@ -22,16 +21,6 @@ namespace {
 using namespace mccd;
 namespace fs = std::filesystem;
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw Error(p.string() + ": cannot open");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw Error(p.string() + ": invalid JSON: " + e.what());
-  }
-}
-
 std::uint64_t key(std::uint64_t a, std::uint64_t b) { return (a << 32) | b; }
 
 struct KindReport {
@@ -40,20 +29,11 @@ struct KindReport {
 
 /// The true pairs of one kind: boxes file + matching truth file, as keys of global ids.
 std::vector<std::uint64_t> true_pairs(const fs::path& boxes, const fs::path& truth, std::size_t& listed) {
-  const nlohmann::json b = read_json(boxes), t = read_json(truth);
-  if (!b.is_array() || !t.is_array())
-    throw Error(boxes.string() + ": expected a JSON array of pairs, and a JSON array of booleans in " + truth.string());
-  if (b.size() != t.size())
-    throw Error(truth.string() + ": " + std::to_string(t.size()) + " booleans for " + std::to_string(b.size()) +
-                " pairs in " + boxes.string());
-  listed = b.size();
+  const cli::TruthPairs t = cli::read_truth_pairs(boxes, truth);
+  listed = t.listed;
   std::vector<std::uint64_t> out;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    if (!b[i].is_array() || b[i].size() != 2 || !b[i][0].is_number_unsigned() || !b[i][1].is_number_unsigned())
-      throw Error(boxes.string() + ": pair " + std::to_string(i) + ": expected [id, id]");
-    if (!t[i].is_boolean()) throw Error(truth.string() + ": entry " + std::to_string(i) + ": expected a boolean");
-    if (t[i].get<bool>()) out.push_back(key(b[i][0].get<std::uint64_t>(), b[i][1].get<std::uint64_t>()));
-  }
+  out.reserve(t.colliding.size());
+  for (const auto& p : t.colliding) out.push_back(key(p[0], p[1]));
   return out;
 }
 

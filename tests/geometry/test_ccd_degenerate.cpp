@@ -89,8 +89,9 @@ TEST(CcdDegenerate, VertexFace) {
   const Vec3 z(0, 0, 0);
   // Vertex falls onto the face interior / an edge / a corner at tc (eps lifts it off).
   const Vec3 A(0, 0, 0), B(1, 0, 0), C(0, 1, 0);
-  for (auto [name, P] : {std::pair<const char*, Vec3>{"interior", Vec3(0.25, 0.25, 0)}, {"edge", Vec3(0.5, 0, 0)},
-                         {"corner", Vec3(0, 0, 0)}, {"outside-on-line", Vec3(1.5, 0, 0)}}) {
+  for (const auto& [name, where] : {std::pair<const char*, Vec3>{"interior", Vec3(0.25, 0.25, 0)}, {"edge", Vec3(0.5, 0, 0)},
+                                    {"corner", Vec3(0, 0, 0)}, {"outside-on-line", Vec3(1.5, 0, 0)}}) {
+    const Vec3 P = where;  // a variable the lambdas can capture (clang 14 cannot capture a binding)
     const int expect = std::string(name) == "outside-on-line" ? 0 : 1;
     sweep(c, true, std::string("vf-fall-") + name, expect, [&](double tc, double eps) {
       return at_contact({P + Vec3(0, -eps, eps), A, B, C}, {Vec3(0, 0, -1), z, Vec3(0, 0, 0.5), z}, tc);
@@ -125,7 +126,8 @@ TEST(CcdDegenerate, EdgeEdge) {
   Checker c;
   const Vec3 z(0, 0, 0);
   // Crossing at tc: interior / endpoint on edge / endpoint on endpoint.
-  for (auto [name, off] : {std::pair<const char*, double>{"cross", 0.5}, {"endpoint", 0.0}, {"beyond", -0.5}}) {
+  for (const auto& [name, offset] : {std::pair<const char*, double>{"cross", 0.5}, {"endpoint", 0.0}, {"beyond", -0.5}}) {
+    const double off = offset;  // a variable the lambdas can capture (clang 14 cannot capture a binding)
     const int expect = std::string(name) == "beyond" ? 0 : 1;
     sweep(c, false, std::string("ee-fall-") + name, expect, [&](double tc, double eps) {
       return at_contact({Vec3(-off, 0, eps), Vec3(1 - off, 0, eps), Vec3(0, -0.5, 0), Vec3(0, 0.5, 0)},

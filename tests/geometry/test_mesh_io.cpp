@@ -496,8 +496,8 @@ TEST(PlyReaderErrors, AsciiStructure) {
   EXPECT_EQ(err(kAsciiVertices + "3 0 1 2\n3 2 -1 3\n"), p + ": line 15: face 1: vertex index -1 out of range [0, 4)");
   EXPECT_EQ(err(kAsciiVertices + "3 0 1 2\n3 2 1 2\n"), p + ": line 15: face 1: repeated vertex index (2, 1, 2)");
   // non-finite coordinates
-  EXPECT_EQ(err("0 0 0\n1 nan 0\n"), p + ": line 11: coordinate y of vertex 1 is not finite (nan)");
-  EXPECT_EQ(err("0 0 0\n1 0 0\n0 1 -inf\n"), p + ": line 12: coordinate z of vertex 2 is not finite (-inf)");
+  EXPECT_EQ(err("0 0 0\n1 nan 0\n"), p + ": line 11: coordinate y of vertex 1 is not finite ('nan')");
+  EXPECT_EQ(err("0 0 0\n1 0 0\n0 1 -inf\n"), p + ": line 12: coordinate z of vertex 2 is not finite ('-inf')");
 }
 
 TEST(PlyReaderErrors, AsciiSkippedListInOtherElement) {
@@ -666,8 +666,8 @@ TEST(ObjReaderErrors, Everything) {
   EXPECT_EQ(err("# only a comment\nvt 0 0\n"), p + ": no vertices or faces (no 'v' or 'f' lines)");
   EXPECT_EQ(err(v3 + "v 1 abc 0\n"), p + ": line 4: expected a number for coordinate y of vertex 4, got 'abc'");
   EXPECT_EQ(err(v3 + "v 1 2\n"), p + ": line 4: expected 3 coordinates for vertex 4, got 2");
-  EXPECT_EQ(err("v 0 0 nan\n"), p + ": line 1: coordinate z of vertex 1 is not finite (nan)");
-  EXPECT_EQ(err("v inf 0 0\n"), p + ": line 1: coordinate x of vertex 1 is not finite (inf)");
+  EXPECT_EQ(err("v 0 0 nan\n"), p + ": line 1: coordinate z of vertex 1 is not finite ('nan')");
+  EXPECT_EQ(err("v inf 0 0\n"), p + ": line 1: coordinate x of vertex 1 is not finite ('inf')");
   EXPECT_EQ(err(v3 + "f 1 2\n"), p + ": line 4: face with fewer than 3 vertices (2)");
   EXPECT_EQ(err(v3 + "f\n"), p + ": line 4: face with fewer than 3 vertices (0)");
   EXPECT_EQ(err(v3 + "f 0 1 2\n"), p + ": line 4: vertex index 0 is invalid (OBJ indices start at 1)");
@@ -677,7 +677,7 @@ TEST(ObjReaderErrors, Everything) {
   EXPECT_EQ(err(v3 + "f 1 2 3x/1\n"), p + ": line 4: expected a vertex index (a, a/b, a//c or a/b/c) in face, got '3x/1'");
   EXPECT_EQ(err(v3 + "f 1 2 1\n"), p + ": line 4: face: repeated vertex index (0, 1, 0)");
   EXPECT_EQ(err(v3 + "f 1 2 4\n# later\n"), p + ": line 4: vertex index 4 out of range [1, 3]");
-  EXPECT_EQ(err(v3 + "f 1 2 99999999999\n"), p + ": line 4: vertex index 99999999999 is too large");
+  EXPECT_EQ(err(v3 + "f 1 2 99999999999\n"), p + ": line 4: vertex index '99999999999' is too large");
   const std::string missing = dir.file("missing.obj");
   EXPECT_ERROR_CONTAINS(read_obj(missing), missing + ": cannot open");
 }
@@ -941,4 +941,110 @@ TEST(MeshIoData, ClothFunnel) {
     EXPECT_EQ(s.frames.size(), 2u);
     EXPECT_EQ(s.mesh.num_faces(), 18484u);
   }
+}
+
+// ------------------------------------------------------------------------------------------
+// Line ends ("\n", "\r\n", lone "\r") in every text reader, and the values of an OBJ `v` line
+// ------------------------------------------------------------------------------------------
+
+namespace {
+/// `text` with every "\n" replaced by `end`.
+std::string with_line_ends(std::string text, const std::string& end) {
+  std::string out;
+  for (char c : text) c == '\n' ? out += end : out += c;
+  return out;
+}
+}  // namespace
+
+TEST(TextLineEnds, ObjCrOnlyFileLoadsEveryLine) {
+  TempDir dir;
+  // the reported defect: CR-only lines loaded as 1 vertex and 0 triangles, without an error
+  const TriMesh m = read_obj(dir.write("cr.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rv 0 0 1\rf 1 2 3\rf 1 2 4\r"));
+  EXPECT_EQ(m.num_vertices(), 4u);
+  EXPECT_EQ(m.faces, (std::vector<Triangle>{{0, 1, 2}, {0, 1, 3}}));
+  const std::string text = "# corner\nv 0 0 0\nv 1 0 0\nv 0 1 0 # c\n\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4";
+  const TriMesh lf = read_obj(dir.write("lf.obj", text));
+  for (const char* end : {"\r\n", "\r"}) {
+    const TriMesh other = read_obj(dir.write("other.obj", with_line_ends(text, end)));
+    EXPECT_EQ(other.vertices, lf.vertices);
+    EXPECT_EQ(other.faces, lf.faces);
+  }
+  // mixed line ends in one file; lone-CR lines count as lines in messages
+  const TriMesh mixed = read_obj(dir.write("mixed.obj", "v 0 0 0\r\nv 1 0 0\rv 0 1 0\n\rf 1 2 3\r\n"));
+  EXPECT_EQ(mixed.num_faces(), 1u);
+  const std::string p = dir.write("bad.obj", "v 0 0 0\rv 1 0 0\r\rv 0 x 0\r");
+  EXPECT_EQ(error_of([&] { read_obj(p); }), p + ": line 4: expected a number for coordinate y of vertex 3, got 'x'");
+}
+
+TEST(TextLineEnds, PlyEveryFormatWithEveryLineEnd) {
+  TempDir dir;
+  const PolyMesh pm;
+  for (Fmt fmt : {Fmt::Ascii, Fmt::LE, Fmt::BE})
+    for (const char* end : {"\r\n", "\r"}) {
+      SCOPED_TRACE(std::string(fmt_name(fmt)) + (end[1] ? " CRLF" : " CR"));
+      PlyOptions o;
+      o.fmt = fmt;
+      o.coord = "double";
+      o.extras = true;
+      std::string file = make_ply(pm, o);
+      const std::size_t data = file.find("end_header\n") + 11;
+      // binary data stays as it is; ascii data lines take the same line ends
+      file = with_line_ends(file.substr(0, data), end) +
+             (fmt == Fmt::Ascii ? with_line_ends(file.substr(data), end) : file.substr(data));
+      const std::string p = dir.write("e.ply", file);
+      expect_poly_mesh(read_ply(p), pm, p);
+    }
+  // ascii: line numbers count lone CRs
+  const std::string p = dir.write("bad.ply", with_line_ends(kAsciiHeader + "0 0 0\n1 0 0\n0 q 0\n", "\r"));
+  EXPECT_EQ(error_of([&] { read_ply(p); }), p + ": line 12: expected a number for property 'y' of vertex 2, got 'q'");
+}
+
+TEST(TextLineEnds, PlyBinaryAfterLoneCrHeaderMayStartWithLf) {
+  // A binary file whose header lines end in a lone CR, and whose first data byte is 0x0A:
+  // the data starts right after "end_header\r" (its first line says lone CRs), not a byte later.
+  TempDir dir;
+  for (bool big : {false, true}) {
+    const std::string header =
+        std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+        " 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const double x0 = std::bit_cast<double>(big ? std::uint64_t{0x0A00000000000000} : std::uint64_t{0x3FF000000000000A});
+    Bytes b;
+    b.big = big;
+    b.put<double>(x0).put<double>(0).put<double>(0);
+    b.put<double>(1).put<double>(0).put<double>(0).put<double>(0).put<double>(1).put<double>(0);
+    b.put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2);
+    ASSERT_EQ(b.s[0], '\n');
+    const TriMesh m = read_ply(dir.write("cr.ply", with_line_ends(header, "\r") + b.s));
+    EXPECT_EQ(m.vertices(0, 0), x0);
+    EXPECT_EQ(m.vertices(2, 1), 1.0);
+    EXPECT_EQ(m.faces, (std::vector<Triangle>{{0, 1, 2}}));
+    // with CRLF header lines, the same bytes after "end_header\r\n" are data
+    const TriMesh crlf = read_ply(dir.write("crlf.ply", with_line_ends(header, "\r\n") + b.s));
+    EXPECT_EQ(crlf.vertices, m.vertices);
+    EXPECT_EQ(read_ply(dir.write("lf.ply", header + b.s)).vertices, m.vertices);
+  }
+}
+
+TEST(ObjReader, VertexLineValues) {
+  TempDir dir;
+  auto read = [&](const std::string& v_line) {
+    return read_obj(dir.write("v.obj", "v 0 0 0\nv 0 1 0\n" + v_line + "\nf 1 2 3\n"));
+  };
+  // x y z; x y z w; x y z r g b; a comment after any of them
+  for (const char* ok : {"v 1 2 3", "v 1 2 3 1", "v 1 2 3 0.5", "v 1 2 3 0.1 0.2 0.3", "v 1 2 3 # note",
+                         "v 1 2 3 1 #note", "v\t1\t2\t3\t255 0 12\t# rgb"})
+    EXPECT_EQ(read(ok).vertices.point(2), Vec3(1, 2, 3)) << ok;
+  const std::string p = dir.file("v.obj");
+  auto err = [&](const std::string& v_line) { return error_of([&] { read(v_line); }); };
+  EXPECT_EQ(err("v 1 2 3 4 5"), p + ": line 3: vertex 3: expected x y z, x y z w or x y z r g b, got 5 values");
+  EXPECT_EQ(err("v 1 2 3 4 5 6 7"), p + ": line 3: vertex 3: expected x y z, x y z w or x y z r g b, got 7 values");
+  EXPECT_EQ(err("v 1 2 3 junk"), p + ": line 3: expected a number for value 4 of vertex 3, got 'junk'");
+  EXPECT_EQ(err("v 1 2 3 1 2 x"), p + ": line 3: expected a number for value 6 of vertex 3, got 'x'");
+  EXPECT_EQ(err("v 1 2 3 nan"), p + ": line 3: value 4 of vertex 3 is not finite ('nan')");
+  EXPECT_EQ(err("v 1 2 3#x"), p + ": line 3: expected a number for coordinate z of vertex 3, got '3#x'");
+  // a long offending token is quoted by its first 40 characters only
+  const std::string junk(5000, 'j');
+  EXPECT_EQ(err("v 1 2 " + junk), p + ": line 3: expected a number for coordinate z of vertex 3, got '" +
+                                      junk.substr(0, 40) + "...'");
 }

@@ -22,8 +22,12 @@ if(NOT found)
 endif()
 file(WRITE ${WORK_DIR}/readme_example.cpp "${CMAKE_MATCH_1}")
 
+# The consumer is built like the package (same compiler, same TBB) with CONSUMER_FLAGS: a
+# sanitized static library needs a sanitized link; -march=native checks the ABI.
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build
-  -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}"
+  -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
+  -DCMAKE_CXX_COMPILER=${CONSUMER_CXX_COMPILER} "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}"
+  "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_FLAGS}" -DTBB_DIR=${CONSUMER_TBB_DIR}
   -DREADME_EXAMPLE=${WORK_DIR}/readme_example.cpp RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "configuring the consumer failed: ${rc}")
@@ -31,6 +35,12 @@ endif()
 execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "building the consumer failed: ${rc}")
+endif()
+if(CONSUMER_FLAGS MATCHES "-fsanitize=")
+  file(STRINGS ${WORK_DIR}/build/consumer instrumented REGEX "__(asan|tsan|ubsan)_" LIMIT_COUNT 1)
+  if(NOT instrumented)
+    message(FATAL_ERROR "the consumer was built without the sanitizer flags '${CONSUMER_FLAGS}'")
+  endif()
 endif()
 foreach(program consumer readme_example)
   execute_process(COMMAND ${WORK_DIR}/build/${program} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
