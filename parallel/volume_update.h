@@ -34,14 +34,21 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
                           const IndexRanges& faces, const IndexRanges& edges) {
   constexpr std::size_t kGrain = 4096;
-  for (const auto& [b0, e0] : vertices)
+  // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
+  for (const auto& range : vertices) {
+    const std::size_t b0 = range.first, e0 = range.second;
     static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
       swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e);
     });
-  for (const auto& [b0, e0] : faces)
+  }
+  for (const auto& range : faces) {
+    const std::size_t b0 = range.first, e0 = range.second;
     static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b0 + b, b0 + e); });
-  for (const auto& [b0, e0] : edges)
+  }
+  for (const auto& range : edges) {
+    const std::size_t b0 = range.first, e0 = range.second;
     static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b0 + b, b0 + e); });
+  }
 }
 
 }  // namespace mccd::detail

@@ -47,7 +47,9 @@ void run_cloth_ball(const nlohmann::json& p, std::uint64_t seed, const FrameSink
   scene.name = "cloth-ball";
   const std::size_t ball_first = append_piece(scene, ball_rest);
 
-  const auto [substeps, dt] = substep_timing(p);
+  const SubstepTiming timing = substep_timing(p);  // plain names: clang 14 cannot capture bindings
+  const int substeps = timing.substeps;
+  const double dt = timing.dt;
   double t = 0, angle = 0, omega = 0;
   // the ball: a sphere of the mesh's radius, turning about z; friction drags the cloth along
   const double contact_r = radius + 0.5 * thickness;

@@ -70,7 +70,9 @@ void run_n_body(const nlohmann::json& p, std::uint64_t seed, const FrameSink& si
   scene.faces = local.faces;
   scene.vertices.resize(local.num_vertices());
 
-  const auto [substeps, dt] = substep_timing(p);
+  const SubstepTiming timing = substep_timing(p);  // plain names: clang 14 cannot capture bindings
+  const int substeps = timing.substeps;
+  const double dt = timing.dt;
   const Vec3 gravity(0, 0, -double(p.at("gravity")));
   // the walls hold each body's whole mesh (its bounding sphere) inside the box
   auto walls = [&](Body& b) {

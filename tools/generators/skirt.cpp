@@ -85,7 +85,9 @@ void run_skirt(const nlohmann::json& p, std::uint64_t seed, const FrameSink& sin
   scene.name = "skirt";
   const std::size_t body_first = append_piece(scene, body_rest);
 
-  const auto [substeps, dt] = substep_timing(p);
+  const SubstepTiming timing = substep_timing(p);  // plain names: clang 14 cannot capture bindings
+  const int substeps = timing.substeps;
+  const double dt = timing.dt;
   const double turn = double(p.at("turn_rad")) * rng.uniform(0.9, 1.1), period = p.at("turn_period_s");
   auto angle_at = [&](double t) { return turn * std::sin(2 * kPi * t / period); };
   double angle = 0, omega = 0;
