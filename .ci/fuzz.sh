@@ -1,18 +1,22 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of tests/fuzz with clang, ASan and UBSan in build-fuzz/ (only
-# the library and the targets), then fuzzes each for SECONDS_PER_TARGET (default 60), two at
-# a time, from build-fuzz/corpus/<name> (seeded from tests/fuzz/corpus/<name>; it grows across
-# runs in the same build folder), also running tests/fuzz/regressions/<name>/. A crash, a
-# leak, a sanitizer report or an input slower than 10 s fails the run; the input is left in
-# build-fuzz/artifacts/ (fix it, and add it to tests/fuzz/regressions/<name>/).
+# Fuzzes each libFuzzer target of tests/fuzz (clang, ASan + UBSan) for SECONDS_PER_TARGET
+# (default 60), two at a time, from <build>/corpus/<name> (seeded from tests/fuzz/corpus/<name>;
+# it grows across runs in the same build folder), also running tests/fuzz/regressions/<name>/.
+# The build: $MCCD_FUZZ_BUILD when set (a folder configured with -DMCCD_FUZZ=ON, as .ci/asan.sh
+# leaves build-asan/; .ci/run passes it), else build-fuzz/, configured here with only the
+# library and the targets. A crash, a leak, a sanitizer report or an input slower than 10 s
+# fails the run; the input is left in <build>/artifacts/ (fix it, and add it to
+# tests/fuzz/regressions/<name>/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DMCCD_SANITIZE=address,undefined -DMCCD_FUZZ=ON -DMCCD_BUILD_TESTS=OFF -DMCCD_BUILD_TOOLS=OFF -DMCCD_BUILD_PERF=OFF
+out=${MCCD_FUZZ_BUILD:-build-fuzz}
+if [ -z "${MCCD_FUZZ_BUILD:-}" ]; then
+  cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DMCCD_SANITIZE=address,undefined -DMCCD_FUZZ=ON -DMCCD_BUILD_TESTS=OFF -DMCCD_BUILD_TOOLS=OFF -DMCCD_BUILD_PERF=OFF
+fi
 seconds=${1:-60}
 targets=(obj ply query_csv toi_truth)
-cmake --build build-fuzz -j2 --target "${targets[@]/#/fuzz_}"
-out=build-fuzz
+cmake --build "$out" -j2 --target "${targets[@]/#/fuzz_}"
 mkdir -p "$out/artifacts" "$out/logs"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1:suppressions=$PWD/cmake/ubsan.supp}
@@ -22,7 +26,7 @@ run() {
   cp -n tests/fuzz/corpus/"$name"/* "$out/corpus/$name/"
   local regressions=()
   [ -d tests/fuzz/regressions/"$name" ] && regressions=(tests/fuzz/regressions/"$name")
-  build-fuzz/bin/fuzz_"$name" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  "$out"/bin/fuzz_"$name" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -dict=tests/fuzz/"$name".dict -artifact_prefix="$out/artifacts/$name-" "$out/corpus/$name" "${regressions[@]}" \
     >"$out/logs/$name.log" 2>&1
 }
