@@ -26,6 +26,12 @@ class BvttFront {
                double invalid_ratio);
   /// Forgets the front: the next fbd step builds it from the root.
   void invalidate() { valid_ = false; }
+  /// Forgets the front and releases its buffers (the memory cap).
+  void release() {
+    valid_ = false;
+    nodes_ = std::vector<NodePair>();
+    next_ = std::vector<NodePair>();
+  }
   /// Bytes held by the front buffers.
   std::size_t bytes() const { return (nodes_.capacity() + next_.capacity()) * sizeof(NodePair); }
 

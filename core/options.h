@@ -63,6 +63,11 @@ struct SceneOptions {
   double rebuild_sprout_ratio = 0.30;
   /// ... or when B/L (nodes invalidated since the last build) exceeds this (equation 4). > 0.
   double rebuild_invalid_ratio = 0.45;
+  /// Cap on the bytes the front keeps between fbd steps (0: no cap). A front that would hold
+  /// more after a step is dropped instead of kept (and its buffers released), so the next step
+  /// rebuilds it from the root rather than growing it. Contacts never depend on the cap; only
+  /// the work of the next step does (StepStats::front_size is 0 after a dropped front).
+  std::size_t max_front_bytes = 0;
   /// One entry per mesh, or empty: every mesh deforming, with self-collision.
   std::vector<MeshOptions> meshes;
   /// Report pairs that come within this distance (finite, >= 0) as contacts.

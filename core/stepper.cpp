@@ -140,9 +140,16 @@ void Stepper<BV>::search_fbd() {
     add_stats(units_, n, st);
     front_.advance(units_, n, options_.rebuild_sprout_ratio, options_.rebuild_invalid_ratio);
   }
+  std::size_t bytes = front_.bytes();
+  for (const WorkerOutput& o : units_) bytes += o.front.capacity() * sizeof(NodePair);
+  if (options_.max_front_bytes != 0 && bytes > options_.max_front_bytes) {
+    // Over the cap: dropped rather than kept and grown; the next step rebuilds it.
+    front_.release();
+    for (WorkerOutput& o : units_) o.front = std::vector<NodePair>();
+    bytes = 0;
+  }
   st.front_size = front_.size();
-  st.front_bytes = front_.bytes();
-  for (const WorkerOutput& o : units_) st.front_bytes += o.front.capacity() * sizeof(NodePair);
+  st.front_bytes = bytes;
 }
 
 template <BoundingVolume BV>
