@@ -1,8 +1,8 @@
 #pragma once
 /// @file Internal: the brute-force method, the oracle of the tests. Every VF pair (v not a
 /// corner of f) and every EE pair sharing no vertex, found by sweep and prune along the widest
-/// slab of the scene, then the same feature-volume and elementary tests as every other method
-/// (core/leaf_pairs.h), so all methods report identical contacts.
+/// slab of the scene, then the same feature test as every other method (core/feature_tests.h),
+/// so all methods report identical contacts.
 #include <algorithm>
 #include <cstdint>
 #include <utility>
@@ -15,9 +15,9 @@
 
 namespace mccd::detail {
 
-template <BoundingVolume BV, class LeafPairs>
+template <BoundingVolume BV, class FeatureTests>
 void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::vector<BV>& nodes,
-                 const SweptVolumes<BV>& swept, const LeafPairs& leaf_pairs, WorkerOutput& out) {
+                 const SweptVolumes<BV>& swept, const FeatureTests& tests, WorkerOutput& out) {
   const MeshTopology& topo = scene.topology();
   const bool filter = scene.has_skipped_pairs();
   // sweep along the slab where the scene is widest (fewest overlapping intervals)
@@ -50,25 +50,27 @@ void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::
       if (filter && scene.skips(scene.mesh_of_vertex(v), scene.mesh_of_face(f))) continue;
       ++out.stats.volume_tests;
       if (!vv.overlaps(swept.face(f))) continue;
-      leaf_pairs.test_vf(v, f, out);
+      tests.test_vf(v, f, out);
     }
   }
   // EE: classic sweep over edges sorted by lower bound.
+  std::vector<BV> edge_volume(topo.num_edges());
+  for (std::uint32_t e = 0; e < edge_volume.size(); ++e) edge_volume[e] = swept.edge(topo.edges()[e]);
   std::vector<std::pair<float, std::uint32_t>> edges(topo.num_edges());
-  for (std::uint32_t e = 0; e < edges.size(); ++e) edges[e] = {swept.edge(e).lo[ax], e};
+  for (std::uint32_t e = 0; e < edges.size(); ++e) edges[e] = {edge_volume[e].lo[ax], e};
   std::sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const std::uint32_t a = edges[i].second;
     const Edge& ea = topo.edges()[a];
-    const BV& va = swept.edge(a);
+    const BV& va = edge_volume[a];
     for (std::size_t j = i + 1; j < edges.size() && edges[j].first <= va.hi[ax]; ++j) {
       const std::uint32_t b = edges[j].second;
       const Edge& eb = topo.edges()[b];
       if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
       if (filter && scene.skips(scene.mesh_of_edge(a), scene.mesh_of_edge(b))) continue;
       ++out.stats.volume_tests;
-      if (!va.overlaps(swept.edge(b))) continue;
-      leaf_pairs.test_ee(a, b, out);
+      if (!va.overlaps(edge_volume[b])) continue;
+      tests.test_ee(a, b, out);
     }
   }
 }

@@ -4,13 +4,13 @@
 /// (or the non-leaf) of the two. A self node (n, n) stands for collisions inside n: for an
 /// inner n it has three children, (l, l), (r, r) and (l, r); a leaf self node is empty. The
 /// front (core/bvtt_front.h) is the set of pair nodes where a traversal stopped: disjoint pairs
-/// and non-adjacent leaf pairs. Adjacent leaf pairs stop without a test and are never in the
-/// front: their features are the orphan set's (core/orphans.h).
+/// and leaf pairs. Under the canonical representative rule, leaf pairs of adjacent triangles
+/// only stop without a test and are never in the front: their features are the orphan set's
+/// (core/orphans.h). Pairs inside one leaf are the self stage's (core/leaf_pairs.h).
 #include <cstdint>
 #include <vector>
 
 #include <mccd/core/bvh.h>
-#include <mccd/core/leaf_pieces.h>
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
@@ -19,15 +19,15 @@
 
 namespace mccd::detail {
 
-/// Walks the BVTT over a BVH and its node volumes; `Leaf` processes overlapping non-adjacent
-/// leaf pairs (core/leaf_pairs.h). Stateless between calls; every call writes only to the
-/// WorkerOutput it is given.
+/// Walks the BVTT over a BVH and its node volumes; `Leaf` processes overlapping leaf pairs
+/// (core/leaf_pairs.h). Stateless between calls; every call writes only to the WorkerOutput
+/// it is given.
 template <BoundingVolume BV, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const LeafPieces<BV>& pieces, const SceneTopology& scene,
-       const Leaf& leaf, const QueryState& query)
-      : bvh_(bvh), volumes_(volumes), pieces_(pieces), scene_(scene), leaf_(leaf), query_(query) {}
+  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const SceneTopology& scene, const Leaf& leaf,
+       const QueryState& query)
+      : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
 
   const BvhTopology& bvh() const { return bvh_; }
 
@@ -37,7 +37,7 @@ class Bvtt {
   void visit(const NodePair n, WorkerOutput& out, std::vector<NodePair>& next) const {
     if (scene_.has_skipped_pairs() && skipped(n)) return;
     if (n.a == n.b) {
-      if (bvh_.leaf(n.a)) return;  // pairs inside one leaf: Stepper's leaf-internal list
+      if (bvh_.leaf(n.a)) return;  // pairs inside one leaf: the self stage's
       const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
       next.push_back({l, r});
       next.push_back({r, r});
@@ -45,14 +45,13 @@ class Bvtt {
       return;
     }
     if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-      if (leaf_.all_adjacent(bvh_.leaf_triangles(n.a), bvh_.leaf_count(n.a), bvh_.leaf_triangles(n.b),
-                             bvh_.leaf_count(n.b))) {
+      if (leaf_.skips(n.a, n.b)) {
         ++out.stats.adjacent_leaf_pairs;
         return;
       }
       if constexpr (record) out.front.push_back(n);
       ++out.stats.volume_tests;
-      if (volumes_[n.a].overlaps(volumes_[n.b])) process_leaves(n, out);
+      if (volumes_[n.a].overlaps(volumes_[n.b])) leaf_.process(n.a, n.b, out);
       return;
     }
     ++out.stats.volume_tests;
@@ -99,7 +98,7 @@ class Bvtt {
       ++out.stats.volume_tests;
       const bool ov = volumes_[n.a].overlaps(volumes_[n.b]);
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        if (ov) process_leaves(n, out);
+        if (ov) leaf_.process(n.a, n.b, out);
         out.front.push_back(n);
       } else if (!ov) {
         out.front.push_back(n);
@@ -121,7 +120,7 @@ class Bvtt {
       ++out.stats.volume_tests;
       if (!volumes_[n.a].overlaps(volumes_[n.b])) continue;
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        process_leaves(n, out);
+        leaf_.process(n.a, n.b, out);
       } else {
         push_children(n, out.stack);
         traverse<false>(out);
@@ -137,17 +136,8 @@ class Bvtt {
     return ma != BvhTopology::kMixed && mb != BvhTopology::kMixed && scene_.skips(ma, mb);
   }
 
-  /// Overlapping leaves: of several triangles, only when they meet in some quarter of the step
-  /// (core/leaf_pieces.h), and only in those quarters below.
-  void process_leaves(const NodePair& n, WorkerOutput& out) const {
-    const std::uint32_t na = bvh_.leaf_count(n.a), nb = bvh_.leaf_count(n.b);
-    const unsigned within = na > 1 || nb > 1 ? pieces_.quarters(n.a, n.b) : 0xFu;
-    if (within) leaf_.process_leaves(bvh_.leaf_triangles(n.a), na, bvh_.leaf_triangles(n.b), nb, out, within);
-  }
-
   const BvhTopology& bvh_;
   const std::vector<BV>& volumes_;
-  const LeafPieces<BV>& pieces_;
   const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;

@@ -40,6 +40,27 @@ BvhBuild parse_bvh_build(const char* name) {
   throw Error(std::string("unknown BVH build '") + name + "' (expected median or sah)");
 }
 
+const char* to_string(Representatives r) {
+  switch (r) {
+    case Representatives::Default: return "default";
+    case Representatives::Leaf: return "leaf";
+    case Representatives::Canonical: return "canonical";
+  }
+  return "?";
+}
+
+Representatives parse_representatives(const char* name) {
+  if (!std::strcmp(name, "default")) return Representatives::Default;
+  if (!std::strcmp(name, "leaf")) return Representatives::Leaf;
+  if (!std::strcmp(name, "canonical")) return Representatives::Canonical;
+  throw Error(std::string("unknown representative rule '") + name + "' (expected default, leaf or canonical)");
+}
+
+Representatives resolved_representatives(const SceneOptions& o) {
+  if (o.representatives != Representatives::Default) return o.representatives;
+  return o.bvh == BvhBuild::Median ? Representatives::Canonical : Representatives::Leaf;
+}
+
 const char* to_string(VolumeKind v) {
   switch (v) {
     case VolumeKind::Kdop18: return "kdop18";
@@ -64,6 +85,9 @@ void validate(const SceneOptions& o) {
   if (static_cast<unsigned>(o.bvh) > static_cast<unsigned>(BvhBuild::Sah))
     throw Error("scene options: bvh " + std::to_string(static_cast<unsigned>(o.bvh)) +
                 " is not a BvhBuild (expected median or sah)");
+  if (static_cast<unsigned>(o.representatives) > static_cast<unsigned>(Representatives::Canonical))
+    throw Error("scene options: representatives " + std::to_string(static_cast<unsigned>(o.representatives)) +
+                " is not a Representatives (expected default, leaf or canonical)");
   if (o.leaf_size > 4)
     throw Error("scene options: leaf_size must be 0 (default) or 1 to 4, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))

@@ -33,6 +33,25 @@ const char* to_string(BvhBuild b);
 /// Parses "median" or "sah"; throws mccd::Error otherwise.
 BvhBuild parse_bvh_build(const char* name);
 
+/// Where each vertex-face and edge-edge pair is tested: at exactly one place per step, so
+/// every choice reports identical contacts; they differ in cost and in what the front holds.
+enum class Representatives : std::uint8_t {
+  Default,    ///< Leaf with the SAH tree, Canonical with the median tree (the paper's setting)
+  Leaf,       ///< every vertex and edge is owned by the BVH leaf of its first triangle; a pair is
+              ///< tested at the leaf pair of its owners (adjacent leaves included) or inside one
+              ///< leaf; no search and no orphan set (core/leaf_owners.h)
+  Canonical,  ///< the paper's (section 4.6): the first non-adjacent triangle pair around the two
+              ///< features carries the pair; pairs with no such carrier form the orphan set,
+              ///< tested every step, and leaf pairs of adjacent triangles never enter the front
+};
+/// "default", "leaf" or "canonical".
+const char* to_string(Representatives r);
+/// Parses "default", "leaf" or "canonical"; throws mccd::Error otherwise.
+Representatives parse_representatives(const char* name);
+struct SceneOptions;
+/// The rule a scene with these options uses (Default resolved by the BVH build).
+Representatives resolved_representatives(const SceneOptions& options);
+
 /// The bounding volume of the scene BVH.
 enum class VolumeKind : std::uint8_t { Kdop18, Aabb };
 /// "kdop18" or "aabb".
@@ -58,6 +77,8 @@ struct SceneOptions {
   /// Triangles per BVH leaf, 1 to 4; 0 picks the build's default (1 for median, as the
   /// paper; 4 for sah).
   unsigned leaf_size = 0;
+  /// Where each feature pair is tested (Default: Leaf with sah, Canonical with median).
+  Representatives representatives = Representatives::Default;
   /// Rebuild the front from the root when S/L (nodes inserted by sprouting since the last
   /// build over the front size) exceeds this (paper equation 3). > 0.
   double rebuild_sprout_ratio = 0.30;

@@ -48,7 +48,7 @@ struct Scene::Impl {
       if (meshes[m].name.empty()) meshes[m].name = "mesh " + std::to_string(m);
       validate_mesh(meshes[m]);
     }
-    topo = std::make_unique<detail::SceneTopology>(meshes, options.meshes);
+    topo = std::make_unique<detail::SceneTopology>(meshes, options.meshes, resolved_representatives(options));
     last_end.resize(topo->topology().num_vertices());
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),

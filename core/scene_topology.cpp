@@ -4,8 +4,9 @@
 
 namespace mccd::detail {
 
-SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options)
-    : options_(std::move(options)) {
+SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options,
+                             Representatives rule)
+    : options_(std::move(options)), rule_(rule == Representatives::Canonical ? rule : Representatives::Leaf) {
   if (options_.empty()) options_.resize(meshes.size());
   if (options_.size() != meshes.size())
     throw Error("scene options: " + std::to_string(options_.size()) + " mesh options for " +
@@ -46,6 +47,7 @@ SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes, std::vector<Mes
       add(moving_.faces, face_offsets_[m], face_offsets_[m + 1]);
       add(moving_.edges, edge_offsets_[m], edge_offsets_[m + 1]);
     }
+  if (rule_ != Representatives::Canonical) return;
   carriers_ = Carriers(topo_);
   orphans_ = OrphanSet(topo_);
   if (has_skipped_) orphans_.drop_if([&](std::uint32_t f) { return !options_[mesh_of_face(f)].self_collision; }, topo_);

@@ -17,13 +17,17 @@ class SceneTopology {
  public:
   SceneTopology() = default;
   /// From validated meshes and their options (empty: defaults). Throws mccd::Error when the
-  /// ids do not fit in 32 bits or the option count is wrong. Orphan pairs inside a mesh
-  /// whose own pairs are never tested are dropped here.
-  SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options);
+  /// ids do not fit in 32 bits or the option count is wrong. The carriers and the orphan set
+  /// are computed only for the canonical rule; orphan pairs inside a mesh whose own pairs
+  /// are never tested are dropped here.
+  SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options,
+                Representatives rule = Representatives::Leaf);
   SceneTopology(const SceneTopology&) = delete;  // the carriers point into topo_
   SceneTopology& operator=(const SceneTopology&) = delete;
 
   const MeshTopology& topology() const { return topo_; }
+  /// The representative rule (never Default).
+  Representatives representatives() const { return rule_; }
   const Carriers& carriers() const { return carriers_; }
   const OrphanSet& orphans() const { return orphans_; }
   std::size_t num_meshes() const { return vertex_offsets_.size() - 1; }
@@ -64,6 +68,7 @@ class SceneTopology {
   Carriers carriers_;
   OrphanSet orphans_;
   std::vector<MeshOptions> options_;
+  Representatives rule_ = Representatives::Leaf;
   bool has_skipped_ = false;
   Ranges moving_;
 };

@@ -30,29 +30,22 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
                     return m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
                   }),
       nodes_(bvh_.size()),
-      leaf_(scene.topology(), scene.carriers(), swept_, x0_, x1_, query_,
-            ConservativeCcd{CcdOptions{options.min_distance}}),
-      bvtt_(bvh_, nodes_, leaf_pieces_, scene, leaf_, query_) {
+      tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
+      leaf_(scene, bvh_, leaf_pieces_, tests_),
+      bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
   swept_.resize(topo);
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
-  leaf_pieces_.plan(bvh_, [&](std::uint32_t n) { return !scene.mesh_options(bvh_.mesh_of_node(n)).is_static; });
+  leaf_pieces_.plan(bvh_, topo, [&](std::uint32_t n) { return !scene.mesh_options(bvh_.mesh_of_node(n)).is_static; });
   bool any_static = false;
   for (std::size_t m = 0; m < scene.num_meshes(); ++m) any_static = any_static || scene.mesh_options(m).is_static;
   if (any_static) {
     const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
     update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
-    leaf_pieces_.update(bvh_, swept_, 0, leaf_pieces_.num_leaves(), /*all=*/true);
+    leaf_pieces_.update(swept_, 0, leaf_pieces_.num_leaves(), /*all=*/true);
   }
-  for (std::uint32_t i = 0; i < bvh_.size(); ++i)
-    if (bvh_.leaf(i)) {
-      const std::uint32_t* t = bvh_.leaf_triangles(i);
-      for (std::uint32_t a = 0; a < bvh_.leaf_count(i); ++a)
-        for (std::uint32_t b = a + 1; b < bvh_.leaf_count(i); ++b)
-          if (!topo.adjacent(t[a], t[b]) && !scene.skips_faces(t[a], t[b])) leaf_internal_.emplace_back(t[a], t[b]);
-    }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { orphans(); },
                                                          [this] { join(); }});
@@ -65,7 +58,7 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
   result_ = StepResult{};
   result_.stats.method = method;
   contacts_.clear();
-  orphan_out_.clear();
+  self_stats_ = {};
   if (options_.flow_graph) {
     graph_->run();
   } else {
@@ -94,7 +87,7 @@ void Stepper<BV>::refit() {
   refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
   static_for(leaf_pieces_.num_moving(), 2048,
-             [&](std::size_t b, std::size_t e) { leaf_pieces_.update(bvh_, swept_, b, e, /*all=*/false); });
+             [&](std::size_t b, std::size_t e) { leaf_pieces_.update(swept_, b, e, /*all=*/false); });
   result_.stats.t_refit = seconds_since(t);
 }
 
@@ -105,7 +98,7 @@ void Stepper<BV>::search() {
   switch (method_) {
     case Method::BruteForce:
       serial_.clear();
-      brute_force(scene_, bvh_, nodes_, swept_, leaf_, serial_);
+      brute_force(scene_, bvh_, nodes_, swept_, tests_, serial_);
       flush(serial_, contacts_);
       st += serial_.stats;
       break;
@@ -168,16 +161,30 @@ template <BoundingVolume BV>
 void Stepper<BV>::orphans() {
   if (method_ == Method::BruteForce) return;  // brute force already covers every pair
   const auto t = Clock::now();
-  test_orphans(scene_.orphans(), leaf_, orphan_out_);
-  for (const auto& [s, t] : leaf_internal_) leaf_.process_if_overlapping(s, t, orphan_out_);
-  flush(orphan_out_, contacts_);
-  orphan_out_.stats.t_orphans = seconds_since(t);
+  // Fixed blocks of self units, each with its own output, joined in block order.
+  constexpr std::size_t kBlock = 512;
+  const std::size_t units = leaf_.num_self_units(), n = (units + kBlock - 1) / kBlock;
+  if (self_units_.size() < n) self_units_.resize(n);
+  auto run = [&](std::size_t b) {
+    WorkerOutput& o = self_units_[b];
+    o.clear();
+    leaf_.process_self(b * kBlock, std::min(units, (b + 1) * kBlock), o);
+    flush(o, contacts_);
+  };
+  if (n == 1)
+    run(0);
+  else if (n > 1)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t b = r.begin(); b != r.end(); ++b) run(b);
+    });
+  add_stats(self_units_, n, self_stats_);
+  self_stats_.t_orphans = seconds_since(t);
 }
 
 template <BoundingVolume BV>
 void Stepper<BV>::join() {
   const auto t = Clock::now();
-  result_.stats += orphan_out_.stats;
+  result_.stats += self_stats_;
   join_contacts(contacts_, scene_, result_);
   result_.stats.t_contacts = seconds_since(t);
 }

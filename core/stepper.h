@@ -11,7 +11,8 @@
 ///     front_tracking.h), building the front from the root first when the rebuild rule says
 ///     so (core/bvtt_front.h). Leaf pairs and elementary tests run where the traversal meets
 ///     them (core/leaf_pairs.h): traversal and narrow phase are one stage;
-///  4. orphans, beside 3: the orphan set's tests (core/orphans.h);
+///  4. self, beside 3: the pairs no BVTT pair node holds, in parallel blocks: each leaf's own
+///     pairs (leaf rule), or the orphan set and the pairs inside leaves (canonical rule);
 ///  5. join: the contacts into the canonical order (parallel/contact_buffer.h).
 /// Every stage writes only its own outputs (per block, per task, per stage); the join reads
 /// them in a fixed order, so a step's result does not depend on the thread count.
@@ -52,6 +53,7 @@ class Stepper {
   void invalidate_front() { front_.invalidate(); }
 
  private:
+  using Tests = FeatureTests<BV>;
   using Leaf = LeafPairs<BV>;
   using Clock = std::chrono::steady_clock;
 
@@ -72,18 +74,18 @@ class Stepper {
   SweptVolumes<BV> swept_;
   LeafPieces<BV> leaf_pieces_;
   QueryState query_;
+  Tests tests_;
   Leaf leaf_;
   Bvtt<BV, Leaf> bvtt_;
   BvttFront front_;
-  /// Non-adjacent triangle pairs inside one BVH leaf: no BVTT node holds them, so they are
-  /// tested every step beside the orphan set.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> leaf_internal_;
 
   // the current step
   Method method_ = Method::Fbd;
   StepResult result_;
   std::vector<WorkerOutput> units_;  ///< per front block, or per PHC task
-  WorkerOutput serial_, orphan_out_;
+  std::vector<WorkerOutput> self_units_;  ///< per block of the self stage
+  WorkerOutput serial_;
+  StepStats self_stats_;
   ContactBuffer contacts_;
   std::unique_ptr<StepGraph> graph_;
 };

@@ -49,6 +49,11 @@ TEST(SceneOptions, OutOfRangeMethodAndVolumeAreRefused) {
     const std::string mv = error_of([&] { validate(v); });
     EXPECT_TRUE(mentions(mv, "volume " + std::to_string(raw - 2) + " is not a VolumeKind")) << mv;
     EXPECT_TRUE(mentions(error_of([&] { Scene({make_grid_mesh(2)}, v); }), "is not a VolumeKind"));
+    SceneOptions r;
+    r.representatives = static_cast<Representatives>(raw - 1);  // 3 is the first value past Canonical
+    const std::string mr = error_of([&] { validate(r); });
+    EXPECT_TRUE(mentions(mr, "representatives " + std::to_string(raw - 1) + " is not a Representatives")) << mr;
+    EXPECT_TRUE(mentions(error_of([&] { Scene({make_grid_mesh(2)}, r); }), "is not a Representatives"));
   }
 }
 
@@ -78,11 +83,28 @@ TEST(SceneOptions, NamesRoundTripAndUnknownNamesAreRefused) {
     EXPECT_EQ(parse_method(to_string(m)), m);
   EXPECT_EQ(parse_method("front"), Method::Fbd);
   for (VolumeKind v : {VolumeKind::Kdop18, VolumeKind::Aabb}) EXPECT_EQ(parse_volume(to_string(v)), v);
+  for (Representatives r : {Representatives::Default, Representatives::Leaf, Representatives::Canonical})
+    EXPECT_EQ(parse_representatives(to_string(r)), r);
+  EXPECT_EQ(error_of([] { parse_representatives("paper"); }),
+            "unknown representative rule 'paper' (expected default, leaf or canonical)");
   EXPECT_EQ(error_of([] { parse_method("Front"); }),
             "unknown method 'Front' (expected bruteforce, traverse, phc or fbd)");
   EXPECT_EQ(error_of([] { parse_volume(""); }), "unknown bounding volume '' (expected kdop18 or aabb)");
   EXPECT_STREQ(to_string(static_cast<Method>(9)), "?");
   EXPECT_STREQ(to_string(static_cast<VolumeKind>(9)), "?");
+  EXPECT_STREQ(to_string(static_cast<Representatives>(9)), "?");
+}
+
+TEST(SceneOptions, DefaultRepresentativesFollowTheTree) {
+  SceneOptions o;
+  EXPECT_EQ(resolved_representatives(o), Representatives::Leaf);
+  o.bvh = BvhBuild::Median;
+  EXPECT_EQ(resolved_representatives(o), Representatives::Canonical);
+  o.representatives = Representatives::Leaf;
+  EXPECT_EQ(resolved_representatives(o), Representatives::Leaf);
+  o.bvh = BvhBuild::Sah;
+  o.representatives = Representatives::Canonical;
+  EXPECT_EQ(resolved_representatives(o), Representatives::Canonical);
 }
 
 TEST(SceneOptions, StepRefusesOutOfRangeMethodAndStaysUnchanged) {

@@ -1,5 +1,6 @@
-// Scene: the three methods (brute force, traversal from the root, front tracking) must give
-// identical contacts at every step of generated scenes; bad input must leave no trace.
+// Scene: the methods (brute force, traversal from the root, front tracking) and both
+// representative rules must give identical contacts at every step of generated scenes; bad
+// input must leave no trace.
 #include <mccd/core/scene.h>
 
 #include <gtest/gtest.h>
@@ -24,16 +25,22 @@ std::string describe(const Contact& c) {
          std::to_string(c.a) + " " + std::to_string(c.mesh_b) + ":" + std::to_string(c.b);
 }
 
-/// Runs every step of `s` with each method in its own scene and checks identical results.
-/// Returns the total number of contacts seen.
+/// Runs every step of `s` with each method in its own scene and checks identical results;
+/// the front also under the other representative rule. Returns the total number of contacts
+/// seen.
 std::size_t expect_methods_agree(const AnimatedScene& s, SceneOptions opt = {}) {
-  Scene brute(s.meshes, opt), trav(s.meshes, opt), front(s.meshes, opt);
+  SceneOptions other = opt;
+  other.representatives =
+      resolved_representatives(opt) == Representatives::Leaf ? Representatives::Canonical : Representatives::Leaf;
+  Scene brute(s.meshes, opt), trav(s.meshes, opt), front(s.meshes, opt), rule(s.meshes, other);
   std::size_t total = 0;
   for (std::size_t f = 1; f < s.frames.size(); ++f) {
     auto next = views(s.frames[f]);
     StepResult rb = brute.advance(next, Method::BruteForce);
     StepResult rt = trav.advance(next, Method::Traverse);
     StepResult rf = front.advance(next, Method::Fbd);
+    StepResult rr = rule.advance(next, Method::Fbd);
+    EXPECT_EQ(rr.contacts, rf.contacts) << s.name << " step " << f << ": the representative rules differ";
     EXPECT_EQ(rb.contacts.size(), rt.contacts.size()) << s.name << " step " << f;
     EXPECT_EQ(rb.contacts.size(), rf.contacts.size()) << s.name << " step " << f;
     if (rb.contacts != rt.contacts || rb.contacts != rf.contacts) {
@@ -96,6 +103,20 @@ TEST(SceneMethods, MinDistanceAgrees) {
   opt.min_distance = 0.01;
   AnimatedScene s = make_deforming_spheres(3, 8, 21);
   EXPECT_GT(expect_methods_agree(s, opt), 10u);
+}
+
+TEST(SceneMethods, TreesLeafSizesAndRulesAgree) {
+  // Every tree, leaf size and representative rule finds the same contacts as brute force.
+  AnimatedScene cloth = make_folding_cloth(24, 16), spheres = make_deforming_spheres(3, 8, 16);
+  for (const AnimatedScene* s : {&cloth, &spheres})
+    for (BvhBuild b : {BvhBuild::Median, BvhBuild::Sah})
+      for (unsigned leaf : {1u, 2u, 3u, 4u}) {
+        SceneOptions opt;
+        opt.bvh = b;
+        opt.leaf_size = leaf;
+        SCOPED_TRACE(s->name + std::string(" ") + to_string(b) + " leaf " + std::to_string(leaf));
+        EXPECT_GT(expect_methods_agree(*s, opt), 10u);
+      }
 }
 
 TEST(SceneFront, RebuildPolicyDoesNotChangeContacts) {
@@ -237,23 +258,33 @@ TEST(SceneContacts, AdvanceEqualsExplicitSteps) {
 
 TEST(SceneContacts, OrphanPairsAreFoundBetweenAdjacentTriangles) {
   // A fan of two triangles sharing vertex 0 only; the far corner of one swings through the
-  // other. Every carrier pair is adjacent, so only the orphan set can find the contact.
+  // other. Under the canonical rule every carrier pair is adjacent, so only the orphan set can
+  // find the contact; under the leaf rule, the leaf pair (or the one leaf) of the two.
   TriMesh m;
   m.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.3, 0.3, 0.5), Vec3(0.4, 0.2, 0.5)};
   m.faces = {{0, 1, 2}, {0, 3, 4}};
-  Scene sc({m});
-  EXPECT_GT(sc.orphan_vf_count(), 0u);
-  Positions end = m.vertices;
-  end(3, 2) = -0.5;  // vertex 3 passes through face 0 at t = 0.5
-  for (Method meth : {Method::BruteForce, Method::Traverse, Method::Phc, Method::Fbd}) {
-    StepResult r = sc.step(m.vertices, end, meth);
-    bool found = false;
-    for (const Contact& c : r.contacts) found |= c.kind == ContactKind::VertexFace && c.a == 3 && c.b == 0;
-    EXPECT_TRUE(found) << to_string(meth);
-    if (meth != Method::BruteForce) {
-      EXPECT_GE(r.stats.orphan_vf_tested, 1u);
+  for (Representatives rule : {Representatives::Canonical, Representatives::Leaf})
+    for (unsigned leaf : {1u, 2u}) {
+      SceneOptions opt;
+      opt.representatives = rule;
+      opt.leaf_size = leaf;
+      Scene sc({m}, opt);
+      if (rule == Representatives::Canonical)
+        EXPECT_GT(sc.orphan_vf_count(), 0u);
+      else
+        EXPECT_EQ(sc.orphan_vf_count(), 0u);
+      Positions end = m.vertices;
+      end(3, 2) = -0.5;  // vertex 3 passes through face 0 at t = 0.5
+      for (Method meth : {Method::BruteForce, Method::Traverse, Method::Phc, Method::Fbd}) {
+        StepResult r = sc.step(m.vertices, end, meth);
+        bool found = false;
+        for (const Contact& c : r.contacts) found |= c.kind == ContactKind::VertexFace && c.a == 3 && c.b == 0;
+        EXPECT_TRUE(found) << to_string(meth) << " " << to_string(rule) << " leaf " << leaf;
+        if (meth != Method::BruteForce && rule == Representatives::Canonical) {
+          EXPECT_GE(r.stats.orphan_vf_tested, 1u);
+        }
+      }
     }
-  }
 }
 
 TEST(SceneThreads, ResultsDoNotDependOnThreadCount) {

@@ -1,6 +1,6 @@
-// Every method (bruteforce, traverse, phc, fbd) returns identical contacts, and phc and fbd
-// return identical contacts and counts at 1, 2, 3, 4 and 8 threads, on the generated scenes at
-// every step and on the real cloth-ball step.
+// Every method (bruteforce, traverse, phc, fbd) and both representative rules return identical
+// contacts, and phc and fbd return identical contacts and counts at 1, 2, 3, 4 and 8 threads, on
+// the generated scenes at every step and on the real cloth-ball step.
 #include <gtest/gtest.h>
 
 #include <oneapi/tbb/task_arena.h>
@@ -25,7 +25,9 @@ constexpr int kThreadCounts[] = {1, 2, 3, 4, 8};
 /// Runs `s` with traverse as the reference and every parallel method at every thread count in
 /// its own arena; checks contacts (and the counts that must not depend on threads) each step.
 void expect_all_agree(const AnimatedScene& s, bool with_brute_force) {
-  Scene reference(s.meshes), brute(s.meshes);
+  SceneOptions canonical_rule;
+  canonical_rule.representatives = Representatives::Canonical;
+  Scene reference(s.meshes), brute(s.meshes), canonical(s.meshes, canonical_rule);
   struct Variant {
     Method method;
     int threads;
@@ -48,6 +50,7 @@ void expect_all_agree(const AnimatedScene& s, bool with_brute_force) {
     if (with_brute_force) {
       ASSERT_EQ(brute.advance(next, Method::BruteForce).contacts, ref.contacts) << s.name << " step " << f;
     }
+    ASSERT_EQ(canonical.advance(next, Method::Fbd).contacts, ref.contacts) << s.name << " step " << f << " canonical";
     StepResult base[2];
     for (Variant& v : variants) {
       StepResult r = v.scene->advance(next);

@@ -1,0 +1,143 @@
+#pragma once
+/// @file Internal: the test of one feature pair, the same for every method and every way of
+/// reaching the pair (a leaf pair of either representative rule, the orphan set, brute
+/// force), so that all of them report identical contacts (geometry/swept_volumes.h, the
+/// consistency invariant):
+///  1. the features' quarter volumes must overlap in some quarter (a whole-step test first
+///     where it is cheaper; it is implied);
+///  2. the coplanarity filter (geometry/ccd_filter.h), only in those quarters;
+///  3. the narrow phase, a template parameter (ipc-toolkit passes its narrow phase the same
+///     way, at run time), unless a simulator query says otherwise (core/query.h).
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <utility>
+
+#include <mccd/core/query.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_filter.h>
+#include <mccd/geometry/swept_volumes.h>
+
+namespace mccd::detail {
+
+/// The default narrow phase: mccd's conservative elementary tests (geometry/ccd.h).
+struct ConservativeCcd {
+  CcdOptions options;
+  bool vertex_face(const CcdPoints& p, double& toi, StepStats& s) const {
+    return vertex_face_ccd(p, toi, options, &s.vf_ccd);
+  }
+  bool edge_edge(const CcdPoints& p, double& toi, StepStats& s) const {
+    return edge_edge_ccd(p, toi, options, &s.ee_ccd);
+  }
+};
+
+/// Reads the step's positions (interleaved doubles, global vertex ids), volumes and query state
+/// through references owned by the stepper, so one object serves every step.
+template <BoundingVolume BV, class NarrowPhase = ConservativeCcd>
+class FeatureTests {
+ public:
+  using Quarters = QuarterVolume<BV>;
+
+  FeatureTests(const MeshTopology& topo, const SweptVolumes<BV>& swept, const Positions& x0, const Positions& x1,
+               QueryState& query, NarrowPhase narrow)
+      : topo_(topo), swept_(swept), x0_(x0), x1_(x1), query_(query), narrow_(narrow) {}
+
+  const MeshTopology& topology() const { return topo_; }
+  const SweptVolumes<BV>& swept() const { return swept_; }
+  const QueryState& query() const { return query_; }
+
+  /// Vertex v against face f (v not a corner of f). `within`: quarters known to hold every
+  /// quarter in which the two can meet (from volumes containing theirs), all four otherwise.
+  void test_vf(std::uint32_t v, std::uint32_t f, WorkerOutput& out, unsigned within = 0xF) const {
+    if (query_.stopped()) return;
+    ++out.stats.feature_box_tests;
+    if (!swept_.vertex(v).overlaps(swept_.face(f))) return;
+    const Triangle& t = topo_.faces()[f];
+    test_vf_quarters(v, t, f, swept_.face_quarters(t), out, within);
+  }
+
+  /// The same with the face's quarters already merged, after the whole-step test.
+  void test_vf_quarters(std::uint32_t v, const Triangle& t, std::uint32_t f, const Quarters& face_quarters,
+                        WorkerOutput& out, unsigned within) const {
+    const unsigned pieces = swept_.vertex_quarters(v).overlap_mask(face_quarters, within);
+    if (!pieces) return;
+    CcdPoints p;
+    load({v, t[0], t[1], t[2]}, p);
+    const unsigned quarters = coplanar_quarters(CcdKind::VertexFace, p, narrow_.options.min_distance, pieces);
+    if (!quarters) {
+      ++out.stats.vf_filtered;
+      return;
+    }
+    if (!wanted(std::countr_zero(quarters), v, f, ContactKind::VertexFace, out)) return;
+    ++out.stats.vf_tests;
+    double toi = 0;
+    if (narrow_.vertex_face(p, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
+  }
+
+  /// Edges a and b (sharing no vertex). `within` as for test_vf.
+  void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out, unsigned within = 0xF) const {
+    if (query_.stopped()) return;
+    if (a > b) std::swap(a, b);
+    ++out.stats.feature_box_tests;
+    const unsigned pieces = swept_.edge_quarters(a).overlap_mask(swept_.edge_quarters(b), within);
+    if (!pieces) return;
+    const Edge& ea = topo_.edges()[a];
+    const Edge& eb = topo_.edges()[b];
+    CcdPoints p;
+    load({ea[0], ea[1], eb[0], eb[1]}, p);
+    const unsigned quarters = coplanar_quarters(CcdKind::EdgeEdge, p, narrow_.options.min_distance, pieces);
+    if (!quarters) {
+      ++out.stats.ee_filtered;
+      return;
+    }
+    if (!wanted(std::countr_zero(quarters), a, b, ContactKind::EdgeEdge, out)) return;
+    ++out.stats.ee_tests;
+    double toi = 0;
+    if (narrow_.edge_edge(p, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
+  }
+
+  /// An earliest-impact query skips what cannot meet before the best time found so far.
+  bool too_late(unsigned quarters) const {
+    return query_.kind() == StepKind::Earliest && 0.25 * std::countr_zero(quarters) >= query_.best();
+  }
+
+ private:
+  /// Whether a pair that passed its volume tests goes to the narrow phase. Earliest queries
+  /// skip pairs that cannot meet before the best time found so far; candidate queries collect
+  /// the pair instead, with the start of its first meeting quarter as the time.
+  bool wanted(int quarter, std::uint32_t a, std::uint32_t b, ContactKind kind, WorkerOutput& out) const {
+    switch (query_.kind()) {
+      case StepKind::Full:
+      case StepKind::FirstContact:
+        return true;
+      case StepKind::Earliest:
+        return 0.25 * quarter < query_.best();
+      case StepKind::Candidates:
+        out.contacts.push_back({a, b, kind, 0.25 * quarter});
+        return false;
+    }
+    return true;
+  }
+
+  void hit(const RawContact& c, WorkerOutput& out) const {
+    out.contacts.push_back(c);
+    if (query_.kind() != StepKind::Full) query_.found(c.toi);
+  }
+
+  void load(const std::array<std::uint32_t, 4>& ids, CcdPoints& p) const {
+    for (int k = 0; k < 4; ++k) {
+      p.start[k] = x0_.point(ids[k]);
+      p.end[k] = x1_.point(ids[k]);
+    }
+  }
+
+  const MeshTopology& topo_;
+  const SweptVolumes<BV>& swept_;
+  const Positions& x0_;
+  const Positions& x1_;
+  QueryState& query_;
+  NarrowPhase narrow_;
+};
+
+}  // namespace mccd::detail

@@ -1,0 +1,29 @@
+#include <mccd/core/leaf_owners.h>
+
+namespace mccd::detail {
+
+LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
+  std::vector<std::uint32_t> leaf_of_face(topo.num_faces(), 0);
+  for (std::uint32_t i = 0; i < bvh.size(); ++i)
+    if (bvh.leaf(i))
+      for (std::uint32_t k = 0; k < bvh.leaf_count(i); ++k) leaf_of_face[bvh.leaf_triangles(i)[k]] = i;
+  // Counting sort of the owned features by owner node, ascending ids within a node.
+  auto bucket = [&](std::size_t n, auto first_face, std::vector<std::uint32_t>& begin, std::vector<std::uint32_t>& ids) {
+    begin.assign(bvh.size() + 1, 0);
+    for (std::size_t x = 0; x < n; ++x)
+      if (first_face(x) != kNoFace) ++begin[leaf_of_face[first_face(x)] + 1];
+    for (std::size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
+    ids.resize(begin.back());
+    std::vector<std::uint32_t> at(begin.begin(), begin.end() - 1);
+    for (std::size_t x = 0; x < n; ++x)
+      if (first_face(x) != kNoFace) ids[at[leaf_of_face[first_face(x)]]++] = static_cast<std::uint32_t>(x);
+  };
+  bucket(
+      topo.num_vertices(),
+      [&](std::size_t v) { return topo.vertex_face_count(v) ? *topo.vertex_faces_begin(v) : kNoFace; },
+      vertex_begin_, vertices_);
+  bucket(
+      topo.num_edges(), [&](std::size_t e) { return *topo.edge_faces_begin(e); }, edge_begin_, edges_);
+}
+
+}  // namespace mccd::detail

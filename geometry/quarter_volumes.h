@@ -1,0 +1,120 @@
+#pragma once
+/// @file Internal: the volumes of one feature over the four quarters [q/4, (q+1)/4] of a step,
+/// as one value laid out for vector registers.
+///
+/// Layout (structure of arrays): for each slab of the k-DOP, the four quarters' lower bounds
+/// side by side, then the same for the upper bounds. Testing two features in all four quarters
+/// is then one 4-lane comparison pair per slab (9 for the 18-DOP, 3 for the AABB), and merging
+/// two is one min and one max per slab, with no shuffles:
+///
+///   lo[s][q], hi[s][q]: bounds along slab s (the axes of geometry/kdop.h) during quarter q.
+///
+/// Bounds are float, rounded outward by whoever fills them (SweptVolumes), like the k-DOPs.
+#include <cstdint>
+#include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include <mccd/geometry/kdop.h>
+
+namespace mccd {
+
+template <int Slabs>
+struct alignas(16) QuarterDop {
+  float lo[Slabs][4];  ///< 16 * Slabs bytes: per slab, the lower bounds of quarters 0..3
+  float hi[Slabs][4];  ///< 16 * Slabs bytes: per slab, the upper bounds of quarters 0..3
+
+  /// Empty in every quarter (overlaps nothing).
+  static QuarterDop empty() {
+    QuarterDop d;
+    for (int s = 0; s < Slabs; ++s)
+      for (int q = 0; q < 4; ++q) {
+        d.lo[s][q] = std::numeric_limits<float>::infinity();
+        d.hi[s][q] = -std::numeric_limits<float>::infinity();
+      }
+    return d;
+  }
+
+  /// Quarter q's volume becomes `d`.
+  void set(int q, const Dop<Slabs>& d) {
+    for (int s = 0; s < Slabs; ++s) {
+      lo[s][q] = d.lo[s];
+      hi[s][q] = d.hi[s];
+    }
+  }
+  /// Quarter q's volume.
+  Dop<Slabs> quarter(int q) const {
+    Dop<Slabs> d;
+    for (int s = 0; s < Slabs; ++s) {
+      d.lo[s] = lo[s][q];
+      d.hi[s] = hi[s][q];
+    }
+    return d;
+  }
+  /// The merge of the four quarters: a volume of the whole step containing every quarter's.
+  Dop<Slabs> whole() const {
+    Dop<Slabs> d;
+    for (int s = 0; s < Slabs; ++s) {
+      float l = lo[s][0], h = hi[s][0];
+      for (int q = 1; q < 4; ++q) {
+        l = lo[s][q] < l ? lo[s][q] : l;
+        h = hi[s][q] > h ? hi[s][q] : h;
+      }
+      d.lo[s] = l;
+      d.hi[s] = h;
+    }
+    return d;
+  }
+
+  /// Grows every quarter to contain the same quarter of `o`.
+  void merge(const QuarterDop& o) {
+#if defined(__SSE2__)
+    for (int s = 0; s < Slabs; ++s) {
+      _mm_store_ps(lo[s], _mm_min_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(lo[s])));
+      _mm_store_ps(hi[s], _mm_max_ps(_mm_load_ps(o.hi[s]), _mm_load_ps(hi[s])));
+    }
+#else
+    for (int s = 0; s < Slabs; ++s)
+      for (int q = 0; q < 4; ++q) {
+        lo[s][q] = o.lo[s][q] < lo[s][q] ? o.lo[s][q] : lo[s][q];
+        hi[s][q] = o.hi[s][q] > hi[s][q] ? o.hi[s][q] : hi[s][q];
+      }
+#endif
+  }
+  static QuarterDop merged(const QuarterDop& a, const QuarterDop& b) {
+    QuarterDop d = a;
+    d.merge(b);
+    return d;
+  }
+
+  /// Bit q (0..3) set when the two volumes of quarter q overlap (touching counts), for the
+  /// quarters of `within` only (the other bits are 0). A NaN bound never separates.
+  [[gnu::always_inline]] unsigned overlap_mask(const QuarterDop& o, unsigned within = 0xF) const {
+#if defined(__SSE2__)
+    __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[0]), _mm_load_ps(o.hi[0])),
+                           _mm_cmpgt_ps(_mm_load_ps(o.lo[0]), _mm_load_ps(hi[0])));
+    for (int s = 1; s < Slabs; ++s)
+      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[s]), _mm_load_ps(o.hi[s])),
+                                     _mm_cmpgt_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(hi[s]))));
+    return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
+#else
+    unsigned mask = 0;
+    for (int q = 0; q < 4; ++q) {
+      bool sep = false;
+      for (int s = 0; s < Slabs; ++s) sep |= (lo[s][q] > o.hi[s][q]) | (o.lo[s][q] > hi[s][q]);
+      mask |= static_cast<unsigned>(!sep) << q;
+    }
+    return mask & within;
+#endif
+  }
+};
+
+static_assert(sizeof(QuarterDop<9>) == 288, "18-DOP over four quarters: 72 floats");
+static_assert(sizeof(QuarterDop<3>) == 96, "AABB over four quarters: 24 floats");
+
+/// The quarter volumes that go with a bounding volume type.
+template <class BV>
+using QuarterVolume = QuarterDop<BV::kSlabs>;
+
+}  // namespace mccd
