@@ -50,6 +50,8 @@ class BvhTopology {
   /// The triangles of leaf i: leaf_count(i) ids from leaf_triangles(i).
   const std::uint32_t* leaf_triangles(std::uint32_t i) const { return order_.data() + (nodes_[i].right_or_leaf >> 2); }
   std::uint32_t leaf_count(std::uint32_t i) const { return (nodes_[i].right_or_leaf & 3u) + 1; }
+  /// Where the triangles of leaf i start in triangle_order().
+  std::uint32_t leaf_first(std::uint32_t i) const { return nodes_[i].right_or_leaf >> 2; }
   /// Number of nodes in the subtree of i.
   std::uint32_t subtree_size(std::uint32_t i) const { return nodes_[i].end - i; }
   const std::vector<BvhNode>& nodes() const { return nodes_; }

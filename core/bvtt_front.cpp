@@ -4,26 +4,24 @@
 
 namespace mccd::detail {
 
-void sort_by_first_node(const std::vector<NodePair>& in, std::vector<NodePair>& out) {
-  std::uint32_t max_a = 0;
-  for (const NodePair& n : in) max_a = std::max(max_a, n.a);
-  std::vector<std::uint32_t> start(std::size_t(max_a) + 2, 0);
-  for (const NodePair& n : in) ++start[n.a + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  out.resize(in.size());
-  for (const NodePair& n : in) out[start[n.a]++] = n;
-}
-
 void BvttFront::build(std::vector<WorkerOutput>& pieces) {
+  // A counting sort by first node (stable: the traversal order is kept among nodes of one
+  // first node), straight from the pieces in piece order; linear in the front and the BVH.
+  std::uint32_t max_a = 0;
   std::size_t n = 0;
-  for (const WorkerOutput& o : pieces) n += o.front.size();
-  next_.clear();
-  next_.reserve(n);
+  for (const WorkerOutput& o : pieces) {
+    n += o.front.size();
+    for (const NodePair& p : o.front) max_a = std::max(max_a, p.a);
+  }
+  std::vector<std::uint32_t> start(std::size_t(max_a) + 2, 0);
+  for (const WorkerOutput& o : pieces)
+    for (const NodePair& p : o.front) ++start[p.a + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  nodes_.resize(n);
   for (WorkerOutput& o : pieces) {
-    next_.insert(next_.end(), o.front.begin(), o.front.end());
+    for (const NodePair& p : o.front) nodes_[start[p.a]++] = p;
     o.front = std::vector<NodePair>();  // the pieces are not kept
   }
-  sort_by_first_node(next_, nodes_);
   next_ = std::vector<NodePair>();
   valid_ = true;
   sprouted_since_build_ = invalidated_since_build_ = 0;

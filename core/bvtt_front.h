@@ -41,8 +41,4 @@ class BvttFront {
   bool valid_ = false;
 };
 
-/// Counting sort of nodes by their first BVH node (stable: the traversal order is kept among
-/// nodes of one first node). Linear in the front and the BVH size.
-void sort_by_first_node(const std::vector<NodePair>& in, std::vector<NodePair>& out);
-
 }  // namespace mccd::detail

@@ -103,7 +103,7 @@ class CanonicalPairs {
     if (tests_.query().stopped()) return;
     ++out.stats.feature_box_tests;
     if (!tests_.swept().vertex(v).overlaps(tests_.swept().face(f))) return;
-    tests_.test_vf_quarters(v, t, f, qf, out, within);
+    tests_.test_vf_quarters(v, tests_.swept().vertex_quarters(v), t, f, qf, out, within);
   }
 
   const BvhTopology& bvh_;

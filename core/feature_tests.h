@@ -54,13 +54,13 @@ class FeatureTests {
     ++out.stats.feature_box_tests;
     if (!swept_.vertex(v).overlaps(swept_.face(f))) return;
     const Triangle& t = topo_.faces()[f];
-    test_vf_quarters(v, t, f, swept_.face_quarters(t), out, within);
+    test_vf_quarters(v, swept_.vertex_quarters(v), t, f, swept_.face_quarters(t), out, within);
   }
 
-  /// The same with the face's quarters already merged, after the whole-step test.
-  void test_vf_quarters(std::uint32_t v, const Triangle& t, std::uint32_t f, const Quarters& face_quarters,
-                        WorkerOutput& out, unsigned within) const {
-    const unsigned pieces = swept_.vertex_quarters(v).overlap_mask(face_quarters, within);
+  /// The same after the whole-step test, with the vertex's and the face's quarters at hand.
+  void test_vf_quarters(std::uint32_t v, const Quarters& vertex_quarters, const Triangle& t, std::uint32_t f,
+                        const Quarters& face_quarters, WorkerOutput& out, unsigned within) const {
+    const unsigned pieces = vertex_quarters.overlap_mask(face_quarters, within);
     if (!pieces) return;
     CcdPoints p;
     load({v, t[0], t[1], t[2]}, p);
@@ -77,10 +77,16 @@ class FeatureTests {
 
   /// Edges a and b (sharing no vertex). `within` as for test_vf.
   void test_ee(std::uint32_t a, std::uint32_t b, WorkerOutput& out, unsigned within = 0xF) const {
+    test_ee(a, b, swept_.edge_quarters(a), swept_.edge_quarters(b), out, within);
+  }
+
+  /// The same with the edges' quarters at hand.
+  void test_ee(std::uint32_t a, std::uint32_t b, const Quarters& qa, const Quarters& qb, WorkerOutput& out,
+               unsigned within) const {
     if (query_.stopped()) return;
-    if (a > b) std::swap(a, b);
+    if (a > b) std::swap(a, b);  // the overlap test is symmetric
     ++out.stats.feature_box_tests;
-    const unsigned pieces = swept_.edge_quarters(a).overlap_mask(swept_.edge_quarters(b), within);
+    const unsigned pieces = qa.overlap_mask(qb, within);
     if (!pieces) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];

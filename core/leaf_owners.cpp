@@ -26,4 +26,19 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       topo.num_edges(), [&](std::size_t e) { return *topo.edge_faces_begin(e); }, edge_begin_, edges_);
 }
 
+VolumeLayout LeafOwnership::layout(const BvhTopology& bvh, const MeshTopology& topo) const {
+  VolumeLayout l;
+  l.vertex_slot.assign(topo.num_vertices(), kNoFace);
+  for (std::size_t s = 0; s < vertices_.size(); ++s) l.vertex_slot[vertices_[s]] = static_cast<std::uint32_t>(s);
+  auto next = static_cast<std::uint32_t>(vertices_.size());
+  for (std::uint32_t& s : l.vertex_slot)
+    if (s == kNoFace) s = next++;  // isolated vertices: stored, never tested
+  l.edge_slot.resize(topo.num_edges());
+  for (std::size_t s = 0; s < edges_.size(); ++s) l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
+  l.face_slot.resize(topo.num_faces());
+  const std::vector<std::uint32_t>& order = bvh.triangle_order();
+  for (std::size_t s = 0; s < order.size(); ++s) l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
+  return l;
+}
+
 }  // namespace mccd::detail

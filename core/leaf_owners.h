@@ -29,11 +29,17 @@ class LeafOwnership {
   LeafOwnership() = default;
   LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo);
 
-  /// The vertices / edges owned by BVH leaf node `node` (none for an inner node).
-  const std::uint32_t* vertices_begin(std::uint32_t node) const { return vertices_.data() + vertex_begin_[node]; }
-  const std::uint32_t* vertices_end(std::uint32_t node) const { return vertices_.data() + vertex_begin_[node + 1]; }
-  const std::uint32_t* edges_begin(std::uint32_t node) const { return edges_.data() + edge_begin_[node]; }
-  const std::uint32_t* edges_end(std::uint32_t node) const { return edges_.data() + edge_begin_[node + 1]; }
+  /// The vertices / edges owned by BVH leaf node `node` (none for an inner node): slots
+  /// [vertex_begin(node), vertex_begin(node + 1)) of vertex(slot), likewise for edges. The
+  /// slots are the storage layout of the swept volumes (layout()).
+  std::uint32_t vertex_begin(std::uint32_t node) const { return vertex_begin_[node]; }
+  std::uint32_t edge_begin(std::uint32_t node) const { return edge_begin_[node]; }
+  std::uint32_t vertex(std::uint32_t slot) const { return vertices_[slot]; }
+  std::uint32_t edge(std::uint32_t slot) const { return edges_[slot]; }
+
+  /// Storage in leaf order: vertices and edges by owner (isolated vertices last), faces in the
+  /// BVH's triangle order.
+  VolumeLayout layout(const BvhTopology& bvh, const MeshTopology& topo) const;
 
  private:
   std::vector<std::uint32_t> vertex_begin_, vertices_;  ///< CSR over BVH nodes
@@ -63,20 +69,20 @@ class OwnedPairs {
     vertices_against(a, b, qb, within, out);
     vertices_against(b, a, qa, within, out);
     // Edges of each side that may meet the other leaf, with the quarters where they may.
-    std::uint32_t ea[kMaxOwned], eb[kMaxOwned];
-    unsigned ma[kMaxOwned], mb[kMaxOwned];
-    const unsigned na = surviving_edges(a, qb, within, ea, ma);
-    if (!na) return;
-    const unsigned nb = surviving_edges(b, qa, within, eb, mb);
+    Surviving ea, eb;
+    surviving_edges(a, qb, within, ea);
+    if (!ea.n) return;
+    surviving_edges(b, qa, within, eb);
+    const SweptVolumes<BV>& swept = tests_.swept();
     const std::vector<Edge>& edges = tests_.topology().edges();
-    for (unsigned i = 0; i < na; ++i) {
-      const Edge& x = edges[ea[i]];
-      for (unsigned j = 0; j < nb; ++j) {
-        const unsigned m = ma[i] & mb[j];
+    for (unsigned i = 0; i < ea.n; ++i) {
+      const Edge& x = edges[ea.id[i]];
+      for (unsigned j = 0; j < eb.n; ++j) {
+        const unsigned m = ea.mask[i] & eb.mask[j];
         if (!m) continue;
-        const Edge& y = edges[eb[j]];
+        const Edge& y = edges[eb.id[j]];
         if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
-        tests_.test_ee(ea[i], eb[j], out, m);
+        tests_.test_ee(ea.id[i], eb.id[j], swept.edge_quarters_at(ea.slot[i]), swept.edge_quarters_at(eb.slot[j]), out, m);
       }
     }
   }
@@ -87,17 +93,23 @@ class OwnedPairs {
     const std::uint32_t* faces = bvh_.leaf_triangles(leaf);
     const std::uint32_t nf = bvh_.leaf_count(leaf);
     const MeshTopology& topo = tests_.topology();
-    for (const std::uint32_t* v = owners_.vertices_begin(leaf); v != owners_.vertices_end(leaf); ++v)
+    const SweptVolumes<BV>& swept = tests_.swept();
+    for (std::uint32_t s = owners_.vertex_begin(leaf); s != owners_.vertex_begin(leaf + 1); ++s) {
+      const std::uint32_t v = owners_.vertex(s);
       for (std::uint32_t k = 0; k < nf; ++k) {
         const Triangle& t = topo.faces()[faces[k]];
-        if (t[0] != *v && t[1] != *v && t[2] != *v) tests_.test_vf(*v, faces[k], out);
+        if (t[0] != v && t[1] != v && t[2] != v) tests_.test_vf(v, faces[k], out);
       }
-    for (const std::uint32_t* a = owners_.edges_begin(leaf); a != owners_.edges_end(leaf); ++a) {
-      const Edge& x = topo.edges()[*a];
-      for (const std::uint32_t* b = a + 1; b != owners_.edges_end(leaf); ++b) {
-        const Edge& y = topo.edges()[*b];
+    }
+    const std::uint32_t end = owners_.edge_begin(leaf + 1);
+    for (std::uint32_t sa = owners_.edge_begin(leaf); sa != end; ++sa) {
+      const std::uint32_t a = owners_.edge(sa);
+      const Edge& x = topo.edges()[a];
+      for (std::uint32_t sb = sa + 1; sb != end; ++sb) {
+        const std::uint32_t b = owners_.edge(sb);
+        const Edge& y = topo.edges()[b];
         if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
-        tests_.test_ee(*a, *b, out);
+        tests_.test_ee(a, b, swept.edge_quarters_at(sa), swept.edge_quarters_at(sb), out, 0xF);
       }
     }
   }
@@ -109,38 +121,43 @@ class OwnedPairs {
     const SweptVolumes<BV>& swept = tests_.swept();
     const MeshTopology& topo = tests_.topology();
     const std::uint32_t* faces = bvh_.leaf_triangles(q);
-    const std::uint32_t nf = bvh_.leaf_count(q);
+    const std::uint32_t nf = bvh_.leaf_count(q), face_slot = bvh_.leaf_first(q);
     Quarters face_quarters[BvhTopology::kMaxLeaf];
     unsigned merged = 0;  // bit k: face k's quarters merged
-    for (const std::uint32_t* v = owners_.vertices_begin(p); v != owners_.vertices_end(p); ++v) {
-      const unsigned m = swept.vertex_quarters(*v).overlap_mask(qq, within);
+    for (std::uint32_t s = owners_.vertex_begin(p); s != owners_.vertex_begin(p + 1); ++s) {
+      const unsigned m = swept.vertex_quarters_at(s).overlap_mask(qq, within);
       if (!m) continue;
+      const std::uint32_t v = owners_.vertex(s);
       for (std::uint32_t k = 0; k < nf; ++k) {
         const Triangle& t = topo.faces()[faces[k]];
-        if (t[0] == *v || t[1] == *v || t[2] == *v) continue;
+        if (t[0] == v || t[1] == v || t[2] == v) continue;
         ++out.stats.feature_box_tests;
-        if (!swept.vertex(*v).overlaps(swept.face(faces[k]))) continue;
+        if (!swept.vertex_at(s).overlaps(swept.face_at(face_slot + k))) continue;
         if (!(merged >> k & 1u)) {
           face_quarters[k] = swept.face_quarters(t);
           merged |= 1u << k;
         }
-        tests_.test_vf_quarters(*v, t, faces[k], face_quarters[k], out, m);
+        tests_.test_vf_quarters(v, swept.vertex_quarters_at(s), t, faces[k], face_quarters[k], out, m);
       }
     }
   }
 
-  /// The edges leaf `p` owns that may meet quarters `qq` within `within`: ids and quarters.
-  unsigned surviving_edges(std::uint32_t p, const Quarters& qq, unsigned within, std::uint32_t* ids,
-                           unsigned* masks) const {
-    const SweptVolumes<BV>& swept = tests_.swept();
+  /// Owned edges that may meet a leaf: ids, slots and the quarters where they may.
+  struct Surviving {
+    std::uint32_t id[kMaxOwned], slot[kMaxOwned];
+    unsigned mask[kMaxOwned];
     unsigned n = 0;
-    for (const std::uint32_t* e = owners_.edges_begin(p); e != owners_.edges_end(p); ++e) {
-      const unsigned m = swept.edge_quarters(*e).overlap_mask(qq, within);
+  };
+  /// The edges leaf `p` owns that may meet quarters `qq` within `within`.
+  void surviving_edges(std::uint32_t p, const Quarters& qq, unsigned within, Surviving& out) const {
+    const SweptVolumes<BV>& swept = tests_.swept();
+    for (std::uint32_t s = owners_.edge_begin(p); s != owners_.edge_begin(p + 1); ++s) {
+      const unsigned m = swept.edge_quarters_at(s).overlap_mask(qq, within);
       if (!m) continue;
-      ids[n] = *e;
-      masks[n++] = m;
+      out.id[out.n] = owners_.edge(s);
+      out.slot[out.n] = s;
+      out.mask[out.n++] = m;
     }
-    return n;
   }
 
   const BvhTopology& bvh_;

@@ -21,13 +21,13 @@ class LeafPairs {
  public:
   using Tests = FeatureTests<BV, NarrowPhase>;
 
-  /// `bvh`, `pieces` and `tests` are owned by the caller and outlive this object.
-  LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafPieces<BV>& pieces, const Tests& tests)
+  /// `bvh`, `owners`, `pieces` and `tests` are owned by the caller and outlive this object.
+  LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
+            const LeafPieces<BV>& pieces, const Tests& tests)
       : scene_(scene),
         tests_(tests),
         owned_rule_(scene.representatives() == Representatives::Leaf),
-        owners_(owned_rule_ ? LeafOwnership(bvh, scene.topology()) : LeafOwnership()),
-        owned_(bvh, owners_, pieces, tests),
+        owned_(bvh, owners, pieces, tests),
         canonical_(bvh, scene.carriers(), pieces, tests) {
     const MeshTopology& topo = scene.topology();
     for (std::uint32_t i = 0; i < bvh.size(); ++i) {
@@ -78,7 +78,6 @@ class LeafPairs {
   const SceneTopology& scene_;
   const Tests& tests_;
   bool owned_rule_;
-  LeafOwnership owners_;
   OwnedPairs<BV, NarrowPhase> owned_;
   CanonicalPairs<BV, NarrowPhase> canonical_;
   std::vector<std::uint32_t> self_leaves_;  ///< leaf rule: the leaves whose own pairs are tested

@@ -30,11 +30,12 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
                     return m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
                   }),
       nodes_(bvh_.size()),
+      owners_(bvh_, scene.topology()),
       tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
-      leaf_(scene, bvh_, leaf_pieces_, tests_),
+      leaf_(scene, bvh_, owners_, leaf_pieces_, tests_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
-  swept_.resize(topo);
+  swept_.resize(topo, owners_.layout(bvh_, topo));
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   leaf_pieces_.plan(bvh_, topo, [&](std::uint32_t n) { return !scene.mesh_options(bvh_.mesh_of_node(n)).is_static; });

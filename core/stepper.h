@@ -71,6 +71,7 @@ class Stepper {
   BvhTopology bvh_;
   RefitPlan refit_plan_;
   std::vector<BV> nodes_;  ///< one volume per BVH node
+  LeafOwnership owners_;   ///< the leaf rule's owners; also the volumes' storage layout
   SweptVolumes<BV> swept_;
   LeafPieces<BV> leaf_pieces_;
   QueryState query_;

@@ -20,9 +20,13 @@
 ///
 /// Stored: per vertex its whole-step volume and its quarters, per edge its quarters, per face
 /// its whole-step volume (what the BVH refits from). A face's quarters are merged when needed.
+/// Storage is in a layout of slots chosen by the caller (VolumeLayout: the BVH's leaf order,
+/// so that the features a leaf pair reads lie together in memory); accessors take ids, or
+/// slots where the caller already knows them.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <mccd/geometry/kdop.h>
@@ -31,12 +35,27 @@
 
 namespace mccd::detail {
 
+/// Where each vertex, edge and face is stored: slot[id], a permutation of the ids (empty: the
+/// identity).
+struct VolumeLayout {
+  std::vector<std::uint32_t> vertex_slot, edge_slot, face_slot;
+};
+
 template <BoundingVolume BV>
 class SweptVolumes {
  public:
   using Quarters = QuarterVolume<BV>;
 
-  void resize(const MeshTopology& topo) {
+  void resize(const MeshTopology& topo, VolumeLayout layout = {}) {
+    layout_ = std::move(layout);
+    auto identity = [](std::vector<std::uint32_t>& slot, std::size_t n) {
+      if (!slot.empty()) return;
+      slot.resize(n);
+      for (std::size_t i = 0; i < n; ++i) slot[i] = static_cast<std::uint32_t>(i);
+    };
+    identity(layout_.vertex_slot, topo.num_vertices());
+    identity(layout_.edge_slot, topo.num_edges());
+    identity(layout_.face_slot, topo.num_faces());
     vertex_.resize(topo.num_vertices());
     vertex_quarters_.resize(topo.num_vertices());
     edge_quarters_.resize(topo.num_edges());
@@ -61,13 +80,14 @@ class SweptVolumes {
         at[k].add_point(pts[k]);
       }
       const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
-      Quarters& q = vertex_quarters_[v];
+      const std::uint32_t slot = layout_.vertex_slot[v];
+      Quarters& q = vertex_quarters_[slot];
       for (int k = 0; k < 4; ++k) {
         BV piece = BV::merged(at[k], at[k + 1]);
         piece.inflate(margin);
         q.set(k, piece);
       }
-      vertex_[v] = q.whole();
+      vertex_[slot] = q.whole();
     }
   }
 
@@ -75,9 +95,9 @@ class SweptVolumes {
   void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f != end; ++f) {
       const Triangle& t = topo.faces()[f];
-      BV d = BV::merged(vertex_[t[0]], vertex_[t[1]]);
-      d.merge(vertex_[t[2]]);
-      face_[f] = d;
+      BV d = BV::merged(vertex(t[0]), vertex(t[1]));
+      d.merge(vertex(t[2]));
+      face_[layout_.face_slot[f]] = d;
     }
   }
 
@@ -85,25 +105,33 @@ class SweptVolumes {
   void update_edges(const MeshTopology& topo, std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e != end; ++e) {
       const Edge& ed = topo.edges()[e];
-      edge_quarters_[e] = Quarters::merged(vertex_quarters_[ed[0]], vertex_quarters_[ed[1]]);
+      edge_quarters_[layout_.edge_slot[e]] = Quarters::merged(vertex_quarters(ed[0]), vertex_quarters(ed[1]));
     }
   }
 
-  const BV& vertex(std::uint32_t v) const { return vertex_[v]; }
-  const BV& face(std::uint32_t f) const { return face_[f]; }
+  const BV& vertex(std::uint32_t v) const { return vertex_[layout_.vertex_slot[v]]; }
+  const BV& face(std::uint32_t f) const { return face_[layout_.face_slot[f]]; }
   /// An edge's whole-step volume (merged on demand).
-  BV edge(const Edge& e) const { return BV::merged(vertex_[e[0]], vertex_[e[1]]); }
+  BV edge(const Edge& e) const { return BV::merged(vertex(e[0]), vertex(e[1])); }
 
-  const Quarters& vertex_quarters(std::uint32_t v) const { return vertex_quarters_[v]; }
-  const Quarters& edge_quarters(std::uint32_t e) const { return edge_quarters_[e]; }
+  const Quarters& vertex_quarters(std::uint32_t v) const { return vertex_quarters_[layout_.vertex_slot[v]]; }
+  const Quarters& edge_quarters(std::uint32_t e) const { return edge_quarters_[layout_.edge_slot[e]]; }
   /// A face's quarters (merged on demand from its corners').
   Quarters face_quarters(const Triangle& t) const {
-    Quarters q = Quarters::merged(vertex_quarters_[t[0]], vertex_quarters_[t[1]]);
-    q.merge(vertex_quarters_[t[2]]);
+    Quarters q = Quarters::merged(vertex_quarters(t[0]), vertex_quarters(t[1]));
+    q.merge(vertex_quarters(t[2]));
     return q;
   }
 
+  /// The same by slot (VolumeLayout).
+  const BV& vertex_at(std::uint32_t slot) const { return vertex_[slot]; }
+  const BV& face_at(std::uint32_t slot) const { return face_[slot]; }
+  const Quarters& vertex_quarters_at(std::uint32_t slot) const { return vertex_quarters_[slot]; }
+  const Quarters& edge_quarters_at(std::uint32_t slot) const { return edge_quarters_[slot]; }
+
  private:
+  VolumeLayout layout_;
+  // by slot:
   std::vector<BV> vertex_;                  ///< per vertex: the merge of its quarters
   std::vector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
   std::vector<Quarters> edge_quarters_;     ///< per edge: merge of its two vertices' quarters
