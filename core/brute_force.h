@@ -15,17 +15,18 @@
 
 namespace mccd::detail {
 
-template <BoundingVolume BV, class FeatureTests>
-void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::vector<BV>& nodes,
+template <BoundingVolume BV, class NodeVolume, class FeatureTests>
+void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::vector<NodeVolume>& nodes,
                  const SweptVolumes<BV>& swept, const FeatureTests& tests, WorkerOutput& out) {
   const MeshTopology& topo = scene.topology();
   const bool filter = scene.has_skipped_pairs();
   // sweep along the slab where the scene is widest (fewest overlapping intervals)
   int ax = 0;
   if (bvh.size() > 0) {
+    const BV root = nodes[0].whole();
     float best = -1;
     for (int k = 0; k < 3; ++k)
-      if (nodes[0].hi[k] - nodes[0].lo[k] > best) best = nodes[0].hi[k] - nodes[0].lo[k], ax = k;
+      if (root.hi[k] - root.lo[k] > best) best = root.hi[k] - root.lo[k], ax = k;
   }
   // VF: faces sorted by lower bound; each vertex scans the faces whose interval can reach it.
   std::vector<std::pair<double, std::uint32_t>> faces(topo.num_faces());

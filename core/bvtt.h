@@ -22,10 +22,16 @@ namespace mccd::detail {
 /// Walks the BVTT over a BVH and its node volumes; `Leaf` processes overlapping leaf pairs
 /// (core/leaf_pairs.h). Stateless between calls; every call writes only to the WorkerOutput
 /// it is given.
-template <BoundingVolume BV, class Leaf>
+///
+/// Node volumes are quarter volumes (geometry/quarter_volumes.h): two nodes overlap when they
+/// overlap in some quarter of the step, the quarters where they do go down to the leaf pair.
+/// A feature's quarter volumes lie inside those of every node above it, quarter by quarter,
+/// so every pair of features that can meet still reaches its leaf pair, and node pairs that
+/// overlap only over the whole step but in no common quarter stop early.
+template <class NodeVolume, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<BV>& volumes, const SceneTopology& scene, const Leaf& leaf,
+  Bvtt(const BvhTopology& bvh, const std::vector<NodeVolume>& volumes, const SceneTopology& scene, const Leaf& leaf,
        const QueryState& query)
       : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
 
@@ -51,11 +57,11 @@ class Bvtt {
       }
       if constexpr (record) out.front.push_back(n);
       ++out.stats.volume_tests;
-      if (volumes_[n.a].overlaps(volumes_[n.b])) leaf_.process(n.a, n.b, out);
+      if (const unsigned q = quarters(n)) leaf_.process(n.a, n.b, q, out);
       return;
     }
     ++out.stats.volume_tests;
-    if (!volumes_[n.a].overlaps(volumes_[n.b])) {
+    if (!quarters(n)) {
       if constexpr (record) out.front.push_back(n);
       return;
     }
@@ -96,9 +102,9 @@ class Bvtt {
     for (const NodePair* it = begin; it != end; ++it) {
       const NodePair n = *it;
       ++out.stats.volume_tests;
-      const bool ov = volumes_[n.a].overlaps(volumes_[n.b]);
+      const unsigned ov = quarters(n);
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        if (ov) leaf_.process(n.a, n.b, out);
+        if (ov) leaf_.process(n.a, n.b, ov, out);
         out.front.push_back(n);
       } else if (!ov) {
         out.front.push_back(n);
@@ -118,9 +124,10 @@ class Bvtt {
     for (const NodePair* it = begin; it != end && !query_.stopped(); ++it) {
       const NodePair n = *it;
       ++out.stats.volume_tests;
-      if (!volumes_[n.a].overlaps(volumes_[n.b])) continue;
+      const unsigned ov = quarters(n);
+      if (!ov) continue;
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        leaf_.process(n.a, n.b, out);
+        leaf_.process(n.a, n.b, ov, out);
       } else {
         push_children(n, out.stack);
         traverse<false>(out);
@@ -129,6 +136,11 @@ class Bvtt {
   }
 
  private:
+  /// The quarters of the step in which the volumes of the pair's two nodes overlap.
+  [[gnu::always_inline]] unsigned quarters(const NodePair& n) const {
+    return volumes_[n.a].overlap_mask(volumes_[n.b]);
+  }
+
   /// Pairs below two nodes of single meshes that are never tested (a static mesh, or one
   /// without self-collision): the whole BVTT subtree is skipped, never entering the front.
   bool skipped(const NodePair& n) const {
@@ -137,7 +149,7 @@ class Bvtt {
   }
 
   const BvhTopology& bvh_;
-  const std::vector<BV>& volumes_;
+  const std::vector<NodeVolume>& volumes_;
   const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;

@@ -11,7 +11,6 @@
 #include <mccd/core/bvh.h>
 #include <mccd/core/carriers.h>
 #include <mccd/core/feature_tests.h>
-#include <mccd/core/leaf_pieces.h>
 
 namespace mccd::detail {
 
@@ -20,9 +19,10 @@ class CanonicalPairs {
  public:
   using Quarters = QuarterVolume<BV>;
 
-  CanonicalPairs(const BvhTopology& bvh, const Carriers& carriers, const LeafPieces<BV>& pieces,
+  /// `nodes`: the quarter volumes of the BVH nodes.
+  CanonicalPairs(const BvhTopology& bvh, const Carriers& carriers, const std::vector<Quarters>& nodes,
                  const FeatureTests<BV, NarrowPhase>& tests)
-      : bvh_(bvh), carriers_(carriers), pieces_(pieces), tests_(tests) {}
+      : bvh_(bvh), carriers_(carriers), nodes_(nodes), tests_(tests) {}
 
   /// Whether every triangle of leaf a is adjacent to every triangle of leaf b: their features
   /// are all the orphan set's, so the leaf pair is skipped without a test.
@@ -34,18 +34,17 @@ class CanonicalPairs {
     return true;
   }
 
-  /// Two overlapping BVH leaves: each non-adjacent pair of their triangles, behind the
-  /// triangles' own volume test (skipped with one triangle per leaf, where the leaf volumes
-  /// are the triangle volumes), only when the leaves meet in some quarter.
-  void process(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+  /// Two BVH leaves that meet in the quarters `within`: each non-adjacent pair of their
+  /// triangles, behind the triangles' own volume test (skipped with one triangle per leaf,
+  /// where the leaf volumes are the triangle volumes).
+  void process(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     const std::uint32_t na = bvh_.leaf_count(a), nb = bvh_.leaf_count(b);
     const std::uint32_t *ta = bvh_.leaf_triangles(a), *tb = bvh_.leaf_triangles(b);
     if (na == 1 && nb == 1) {
-      triangles(ta[0], tb[0], pieces_.of(a), pieces_.of(b), 0xF, out);  // not adjacent: see all_adjacent
+      triangles(ta[0], tb[0], nodes_[a], nodes_[b], within, out);  // not adjacent: see all_adjacent
       return;
     }
-    const unsigned within = pieces_.quarters(a, b);
-    if (!within || tests_.too_late(within)) return;
+    if (tests_.too_late(within)) return;
     Quarters qa[BvhTopology::kMaxLeaf], qb[BvhTopology::kMaxLeaf];
     unsigned merged_a = 0, merged_b = 0;
     const SweptVolumes<BV>& swept = tests_.swept();
@@ -108,7 +107,7 @@ class CanonicalPairs {
 
   const BvhTopology& bvh_;
   const Carriers& carriers_;
-  const LeafPieces<BV>& pieces_;
+  const std::vector<Quarters>& nodes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
 };
 

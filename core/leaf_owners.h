@@ -8,8 +8,9 @@
 /// leaf pair needs no search and adjacent leaves need no orphan set: they are ordinary front
 /// nodes, and each leaf's own pairs are tested every step (Stepper's self stage).
 ///
-/// At an overlapping leaf pair (A, B): the quarters in which the leaves meet (none: done);
-/// each feature A owns against B's quarter volumes in those quarters, then each surviving
+/// At a leaf pair (A, B) that meets in some quarters of the step (the BVTT's test of their
+/// quarter volumes): each feature A owns against B's quarter volumes in those quarters, then
+/// each surviving
 /// vertex against B's faces and each surviving edge against B's surviving edges, through
 /// the common feature test (core/feature_tests.h) restricted to the quarters both survived in.
 #include <cstdint>
@@ -17,7 +18,6 @@
 
 #include <mccd/core/bvh.h>
 #include <mccd/core/feature_tests.h>
-#include <mccd/core/leaf_pieces.h>
 
 namespace mccd::detail {
 
@@ -54,18 +54,17 @@ class OwnedPairs {
   /// A leaf owns at most 3 vertices and 3 edges per triangle.
   static constexpr unsigned kMaxOwned = 3 * BvhTopology::kMaxLeaf;
 
-  OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const LeafPieces<BV>& pieces,
+  /// `nodes`: the quarter volumes of the BVH nodes.
+  OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const std::vector<Quarters>& nodes,
              const FeatureTests<BV, NarrowPhase>& tests)
-      : bvh_(bvh), owners_(owners), pieces_(pieces), tests_(tests) {}
+      : bvh_(bvh), owners_(owners), nodes_(nodes), tests_(tests) {}
 
-  /// Two different BVH leaves whose volumes overlap.
-  void process(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
-    if (tests_.query().stopped()) return;
+  /// Two different BVH leaves whose quarter volumes overlap in the quarters `within`.
+  void process(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
+    if (tests_.query().stopped() || tests_.too_late(within)) return;
     ++out.stats.leaf_pairs;
-    const unsigned within = pieces_.quarters(a, b);
-    if (!within || tests_.too_late(within)) return;
-    const Quarters& qa = pieces_.of(a);
-    const Quarters& qb = pieces_.of(b);
+    const Quarters& qa = nodes_[a];
+    const Quarters& qb = nodes_[b];
     vertices_against(a, b, qb, within, out);
     vertices_against(b, a, qa, within, out);
     // Edges of each side that may meet the other leaf, with the quarters where they may.
@@ -162,7 +161,7 @@ class OwnedPairs {
 
   const BvhTopology& bvh_;
   const LeafOwnership& owners_;
-  const LeafPieces<BV>& pieces_;
+  const std::vector<Quarters>& nodes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
 };
 

@@ -21,14 +21,17 @@ class LeafPairs {
  public:
   using Tests = FeatureTests<BV, NarrowPhase>;
 
-  /// `bvh`, `owners`, `pieces` and `tests` are owned by the caller and outlive this object.
+  using Quarters = QuarterVolume<BV>;
+
+  /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes) and `tests` are owned by the
+  /// caller and outlive this object.
   LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
-            const LeafPieces<BV>& pieces, const Tests& tests)
+            const std::vector<Quarters>& nodes, const Tests& tests)
       : scene_(scene),
         tests_(tests),
         owned_rule_(scene.representatives() == Representatives::Leaf),
-        owned_(bvh, owners, pieces, tests),
-        canonical_(bvh, scene.carriers(), pieces, tests) {
+        owned_(bvh, owners, nodes, tests),
+        canonical_(bvh, scene.carriers(), nodes, tests) {
     const MeshTopology& topo = scene.topology();
     for (std::uint32_t i = 0; i < bvh.size(); ++i) {
       if (!bvh.leaf(i)) continue;
@@ -51,12 +54,12 @@ class LeafPairs {
   /// triangle pair adjacent, so every feature pair is an orphan's).
   bool skips(std::uint32_t a, std::uint32_t b) const { return !owned_rule_ && canonical_.all_adjacent(a, b); }
 
-  /// Two different BVH leaves whose volumes overlap.
-  void process(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+  /// Two different BVH leaves whose quarter volumes overlap in the quarters `within`.
+  void process(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     if (owned_rule_)
-      owned_.process(a, b, out);
+      owned_.process(a, b, within, out);
     else
-      canonical_.process(a, b, out);
+      canonical_.process(a, b, within, out);
   }
 
   /// The units of the self stage (the pairs that no BVTT pair node holds), each independent:

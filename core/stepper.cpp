@@ -32,20 +32,18 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       nodes_(bvh_.size()),
       owners_(bvh_, scene.topology()),
       tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
-      leaf_(scene, bvh_, owners_, leaf_pieces_, tests_),
+      leaf_(scene, bvh_, owners_, nodes_, tests_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
   swept_.resize(topo, owners_.layout(bvh_, topo));
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
-  leaf_pieces_.plan(bvh_, topo, [&](std::uint32_t n) { return !scene.mesh_options(bvh_.mesh_of_node(n)).is_static; });
   bool any_static = false;
   for (std::size_t m = 0; m < scene.num_meshes(); ++m) any_static = any_static || scene.mesh_options(m).is_static;
   if (any_static) {
     const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
     update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
-    refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
-    leaf_pieces_.update(swept_, 0, leaf_pieces_.num_leaves(), /*all=*/true);
+    refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) { return swept_.face_quarters(topo.faces()[f]); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { orphans(); },
@@ -85,10 +83,9 @@ void Stepper<BV>::update() {
 template <BoundingVolume BV>
 void Stepper<BV>::refit() {
   const auto t = Clock::now();
-  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) -> const BV& { return swept_.face(f); });
+  const std::vector<Triangle>& faces = scene_.topology().faces();
+  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) { return swept_.face_quarters(faces[f]); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
-  static_for(leaf_pieces_.num_moving(), 2048,
-             [&](std::size_t b, std::size_t e) { leaf_pieces_.update(swept_, b, e, /*all=*/false); });
   result_.stats.t_refit = seconds_since(t);
 }
 

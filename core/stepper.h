@@ -55,6 +55,7 @@ class Stepper {
  private:
   using Tests = FeatureTests<BV>;
   using Leaf = LeafPairs<BV>;
+  using NodeVolume = QuarterVolume<BV>;
   using Clock = std::chrono::steady_clock;
 
   void update();
@@ -70,14 +71,13 @@ class Stepper {
   Positions x0_, x1_;
   BvhTopology bvh_;
   RefitPlan refit_plan_;
-  std::vector<BV> nodes_;  ///< one volume per BVH node
+  std::vector<NodeVolume> nodes_;  ///< per BVH node: its quarter volumes
   LeafOwnership owners_;   ///< the leaf rule's owners; also the volumes' storage layout
   SweptVolumes<BV> swept_;
-  LeafPieces<BV> leaf_pieces_;
   QueryState query_;
   Tests tests_;
   Leaf leaf_;
-  Bvtt<BV, Leaf> bvtt_;
+  Bvtt<NodeVolume, Leaf> bvtt_;
   BvttFront front_;
 
   // the current step
