@@ -32,6 +32,22 @@ inline float float_down(float f) {
 }
 inline float float_up(float f) { return -float_down(-f); }
 
+/// The largest float <= x / the smallest float >= x, for any double x but NaN (beyond the float
+/// range: -inf / FLT_MAX, and -FLT_MAX / +inf). Branch-free: one conversion, one comparison and
+/// a one-step correction of the bit pattern.
+inline float float_below(double x) {
+  float f = static_cast<float>(x);
+  std::int32_t u;
+  std::memcpy(&u, &f, 4);
+  // One step toward -inf: a positive pattern decreases, a negative one (-0 included) grows in
+  // magnitude, and +0 becomes the negative denormal.
+  const std::int32_t step = u > 0 ? u - 1 : (u == 0 ? std::int32_t(0x80000001u) : u + 1);
+  const std::int32_t d = static_cast<double>(f) > x ? step : u;
+  std::memcpy(&f, &d, 4);
+  return f;
+}
+inline float float_above(double x) { return -float_below(-x); }
+
 template <int Slabs>
 struct Dop {
   static_assert(Slabs == 3 || Slabs == 9, "Dop supports the AABB (3 slabs) and the 18-DOP (9 slabs)");

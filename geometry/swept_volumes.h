@@ -3,7 +3,7 @@
 /// and over its quarters, for one bounding-volume type.
 ///
 /// A vertex moves on a segment from x0 to x1. Its quarter volumes bound the straight paths
-/// between the computed points a + (k/4)(b - a), k = 0..4, inflated (see update_vertices) so
+/// between the computed points a + (k/4)(b - a), k = 0..4, moved out (see update_vertices) so
 /// that each contains the exact part of the segment in [q/4, (q+1)/4]; its whole-step volume
 /// is the merge of its four quarter volumes. An edge's and a face's volumes (whole or per
 /// quarter) are the merges of their vertices'. A contact at time t lies in both features'
@@ -65,28 +65,25 @@ class SweptVolumes {
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
   /// inflated by `min_distance`. Each range writes only its own vertices.
   void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end) {
+    constexpr int S = BV::kSlabs;
     for (std::size_t v = begin; v != end; ++v) {
       const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
       const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
-      // The split points and their projections carry rounding errors relative to the
-      // coordinates (not to the projections), so each quarter is inflated by 2^-48 of the
-      // largest coordinate, far above those errors, on top of the outward float rounding.
-      // Each point is projected and rounded once; the volumes are merges of those.
+      // The points a + (k/4)(b - a), k = 0..4, projected on the slabs' axes. The split points
+      // and the projections carry rounding errors relative to the coordinates (at most a few
+      // units of 2^-53 of the largest one), so each quarter's bounds are moved out by 2^-48 of
+      // the largest coordinate, far above those errors, and then rounded outward to float.
       const Vec3 step = b - a;
-      const Vec3 pts[5] = {a, a + 0.25 * step, a + 0.5 * step, a + 0.75 * step, b};
-      BV at[5];
-      for (int k = 0; k < 5; ++k) {
-        at[k] = BV::empty();
-        at[k].add_point(pts[k]);
-      }
+      double pr[5][S];
+      for (int k = 0; k < 5; ++k) BV::project(k == 4 ? b : Vec3(a + (0.25 * k) * step), pr[k]);
       const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
       const std::uint32_t slot = layout_.vertex_slot[v];
       Quarters& q = vertex_quarters_[slot];
-      for (int k = 0; k < 4; ++k) {
-        BV piece = BV::merged(at[k], at[k + 1]);
-        piece.inflate(margin);
-        q.set(k, piece);
-      }
+      for (int s = 0; s < S; ++s)
+        for (int k = 0; k < 4; ++k) {
+          q.lo[s][k] = float_below(std::min(pr[k][s], pr[k + 1][s]) - margin);
+          q.hi[s][k] = float_above(std::max(pr[k][s], pr[k + 1][s]) + margin);
+        }
       vertex_[slot] = q.whole();
     }
   }

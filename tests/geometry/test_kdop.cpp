@@ -83,6 +83,38 @@ TEST(Kdop, FloatStepsMatchNextafter) {
   }
 }
 
+TEST(Kdop, FloatBelowAndAboveAreTheNearestFloatsOutside) {
+  // The reference: the float nearest to x, moved one step when it lies on the wrong side.
+  const double inf = std::numeric_limits<double>::infinity();
+  auto below = [&](double x) {
+    float f = static_cast<float>(x);
+    return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+  };
+  auto above = [&](double x) {
+    float f = static_cast<float>(x);
+    return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+  };
+  std::vector<double> values = {0.0, -0.0, 1.0, -1.0, 0.1, -0.1, 1e-45, -1e-45, 1e-50, -1e-50, 3.4028235e38,
+                                -3.4028235e38, 1e39, -1e39, 1e300, -1e300, inf, -inf,
+                                static_cast<double>(std::numeric_limits<float>::max()),
+                                static_cast<double>(std::numeric_limits<float>::denorm_min())};
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 20000; ++i) {
+    std::uint64_t u = rng();
+    double x;
+    std::memcpy(&x, &u, 8);
+    if (x == x) values.push_back(x);
+    values.push_back(std::ldexp(static_cast<double>(rng() % 2000001) - 1e6, static_cast<int>(rng() % 80) - 40));
+  }
+  for (double x : values) {
+    const float lo = float_below(x), hi = float_above(x);
+    EXPECT_EQ(lo, below(x)) << x;
+    EXPECT_EQ(hi, above(x)) << x;
+    EXPECT_LE(static_cast<double>(lo), x) << x;
+    EXPECT_GE(static_cast<double>(hi), x) << x;
+  }
+}
+
 TEST(Kdop, OverlapAndMergeEqualTheSlabDefinitions) {
   // The vectorised test against the definition, slab by slab, on random volumes that often
   // touch exactly, with infinities and NaN bounds thrown in.
