@@ -5,9 +5,10 @@
 /// consistency invariant):
 ///  1. the features' quarter volumes must overlap in some quarter (a whole-step test first
 ///     where it is cheaper; it is implied);
-///  2. the coplanarity filter (geometry/ccd_filter.h), only in those quarters;
-///  3. the narrow phase, a template parameter (ipc-toolkit passes its narrow phase the same
-///     way, at run time), unless a simulator query says otherwise (core/query.h).
+///  2. the narrow phase, a template parameter (ipc-toolkit passes its narrow phase the same way,
+///     at run time), in two parts: its filter, which names the quarters where the pair may
+///     still touch (the default: the coplanarity filter, geometry/ccd_filter.h), and, when a
+///     simulator query does not say otherwise (core/query.h), its test.
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -21,14 +22,19 @@
 
 namespace mccd::detail {
 
-/// The default narrow phase: mccd's conservative elementary tests (geometry/ccd.h).
+/// The default narrow phase: mccd's conservative elementary tests (geometry/ccd.h), their
+/// coplanarity filter first (geometry/ccd_filter.h); the test continues the filter's work.
+/// A narrow phase provides a per-pair `Query` and these two calls.
 struct ConservativeCcd {
   CcdOptions options;
-  bool vertex_face(const CcdPoints& p, double& toi, StepStats& s) const {
-    return vertex_face_ccd(p, toi, options, &s.vf_ccd);
+  using Query = FilteredCcd;
+  /// The quarters of `within` in which the pair may touch (0: it cannot).
+  unsigned filter(Query& q, CcdKind kind, const CcdPoints& p, unsigned within) const {
+    return q.filter(kind, p, options.min_distance, within);
   }
-  bool edge_edge(const CcdPoints& p, double& toi, StepStats& s) const {
-    return edge_edge_ccd(p, toi, options, &s.ee_ccd);
+  /// The elementary test, after filter() returned non-zero for the same query.
+  bool test(Query& q, CcdKind kind, double& toi, StepStats& s) const {
+    return q.test(toi, kind == CcdKind::VertexFace ? &s.vf_ccd : &s.ee_ccd);
   }
 };
 
@@ -64,7 +70,8 @@ class FeatureTests {
     if (!pieces) return;
     CcdPoints p;
     load({v, t[0], t[1], t[2]}, p);
-    const unsigned quarters = coplanar_quarters(CcdKind::VertexFace, p, narrow_.options.min_distance, pieces);
+    typename NarrowPhase::Query q;
+    const unsigned quarters = narrow_.filter(q, CcdKind::VertexFace, p, pieces);
     if (!quarters) {
       ++out.stats.vf_filtered;
       return;
@@ -72,7 +79,7 @@ class FeatureTests {
     if (!wanted(std::countr_zero(quarters), v, f, ContactKind::VertexFace, out)) return;
     ++out.stats.vf_tests;
     double toi = 0;
-    if (narrow_.vertex_face(p, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
+    if (narrow_.test(q, CcdKind::VertexFace, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
   }
 
   /// Edges a and b (sharing no vertex). `within` as for test_vf.
@@ -92,7 +99,8 @@ class FeatureTests {
     const Edge& eb = topo_.edges()[b];
     CcdPoints p;
     load({ea[0], ea[1], eb[0], eb[1]}, p);
-    const unsigned quarters = coplanar_quarters(CcdKind::EdgeEdge, p, narrow_.options.min_distance, pieces);
+    typename NarrowPhase::Query q;
+    const unsigned quarters = narrow_.filter(q, CcdKind::EdgeEdge, p, pieces);
     if (!quarters) {
       ++out.stats.ee_filtered;
       return;
@@ -100,7 +108,7 @@ class FeatureTests {
     if (!wanted(std::countr_zero(quarters), a, b, ContactKind::EdgeEdge, out)) return;
     ++out.stats.ee_tests;
     double toi = 0;
-    if (narrow_.edge_edge(p, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
+    if (narrow_.test(q, CcdKind::EdgeEdge, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
   }
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.

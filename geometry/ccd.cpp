@@ -6,6 +6,7 @@
 #include <mccd/geometry/ccd_detail.h>
 #include <mccd/geometry/ccd_distance.h>
 #include <mccd/geometry/ccd_fast.h>
+#include <mccd/geometry/ccd_filter.h>
 
 namespace mccd {
 namespace detail {
@@ -36,17 +37,18 @@ bool box_overlap(const CcdPoints& p, double min_distance, double& mx) {
   return true;
 }
 
+/// Stages (a) and (b) into `S`: Continue when the test must go on to stage (c); otherwise the
+/// answer is final (Miss, or Hit with `toi`).
+enum class Prepared { Continue, Miss, Hit, HitUnsafe };
+
 template <CcdKind K>
-bool run(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters, CcdPath path) {
-  using Kind = KindOps<K>;
+Prepared prepare(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters) {
   if (counters) ++counters->queries;
-  const double d = options.min_distance > 0 ? options.min_distance : 0.0;
   double mx = 0;
   if (!box_overlap<K>(p, d, mx)) {
     if (counters) ++counters->box_culled;
-    return false;
+    return Prepared::Miss;
   }
-  Setup<double> S;
   S.kind = K;
   switch (load(p, d, S, mx)) {
     case Load::Ok:
@@ -54,17 +56,24 @@ bool run(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters
     case Load::AllZero:  // every point at the origin at both times: touching throughout
       toi = 0;
       if (counters) ++counters->hits;
-      return true;
+      return Prepared::Hit;
     case Load::Unsafe:  // non-finite input or a dynamic range beyond 2^1000: conservative
       toi = 0;
       if (counters) ++counters->fallbacks, ++counters->hits;
-      return true;
+      return Prepared::HitUnsafe;
   }
   coplanarity_of<K>(S);
   if (definite_sign(S.f, S.ef + S.dN) != 0) {
     if (counters) ++counters->coplanar_culled;
-    return false;
+    return Prepared::Miss;
   }
+  return Prepared::Continue;
+}
+
+/// Stage (c) on a prepared query.
+template <CcdKind K>
+bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters, CcdPath path) {
+  using Kind = KindOps<K>;
   if (counters) ++counters->root_tests;
   pairs_of<K>(S);
   if (d > 0 && within_at_start<Kind>(S)) {
@@ -111,7 +120,73 @@ bool run(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters
   return true;
 }
 
+template <CcdKind K>
+bool run(const CcdPoints& p, double& toi, const CcdOptions& options, CcdCounters* counters, CcdPath path) {
+  const double d = options.min_distance > 0 ? options.min_distance : 0.0;
+  Setup<double> S;
+  switch (prepare<K>(p, d, S, toi, counters)) {
+    case Prepared::Miss: return false;
+    case Prepared::Hit:
+    case Prepared::HitUnsafe: return true;
+    case Prepared::Continue: break;
+  }
+  return finish<K>(p, d, S, toi, counters, path);
+}
+
+/// The quarters of `within` in which the prepared cubic S.f may vanish (within the distance
+/// margin): a definite sign of every Bernstein coefficient beyond the error bound (plus the
+/// margin) proves the cubic nonzero on the whole closed piece (the convex hull property).
+unsigned quarters_of(const Setup<double>& S, unsigned within) {
+  Bern<3, double> h[2], q[4];
+  const double eh = split_half(S.f, S.ef, h[0], h[1]);
+  unsigned mask = 0;
+  for (int i = 0; i < 2; ++i) {
+    const unsigned half = within >> (2 * i) & 3u;
+    if (!half || definite_sign(h[i], eh + S.dN) != 0) continue;
+    const double eq = split_half(h[i], eh, q[2 * i], q[2 * i + 1]);
+    for (int j = 0; j < 2; ++j)
+      if ((half >> j & 1u) && definite_sign(q[2 * i + j], eq + S.dN) == 0) mask |= 1u << (2 * i + j);
+  }
+  return mask;
+}
+
 }  // namespace
+
+unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within) {
+  kind_ = kind;
+  points_ = &p;
+  d_ = min_distance > 0 ? min_distance : 0.0;
+  const Prepared r = kind == CcdKind::VertexFace ? prepare<CcdKind::VertexFace>(p, d_, S_, toi_, nullptr)
+                                                 : prepare<CcdKind::EdgeEdge>(p, d_, S_, toi_, nullptr);
+  state_ = static_cast<int>(r);
+  switch (r) {
+    case Prepared::Miss: return 0;
+    case Prepared::Hit:
+    case Prepared::HitUnsafe: return within;  // not analysed: every quarter asked for
+    case Prepared::Continue: break;
+  }
+  return quarters_of(S_, within);
+}
+
+bool FilteredCcd::test(double& toi, CcdCounters* counters) {
+  switch (static_cast<Prepared>(state_)) {
+    case Prepared::Miss: return false;  // not reached after a filter that returned non-zero
+    case Prepared::Hit:
+    case Prepared::HitUnsafe:
+      // the counts prepare() would have made
+      if (counters) {
+        ++counters->queries, ++counters->hits;
+        if (static_cast<Prepared>(state_) == Prepared::HitUnsafe) ++counters->fallbacks;
+      }
+      toi = toi_;
+      return true;
+    case Prepared::Continue: break;
+  }
+  if (counters) ++counters->queries;
+  return kind_ == CcdKind::VertexFace
+             ? finish<CcdKind::VertexFace>(*points_, d_, S_, toi, counters, CcdPath::Fast)
+             : finish<CcdKind::EdgeEdge>(*points_, d_, S_, toi, counters, CcdPath::Fast);
+}
 
 bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {
   double mx;

@@ -12,13 +12,37 @@
 /// test.
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_detail.h>
+#include <mccd/geometry/ccd_setup.h>
 
 namespace mccd::detail {
 
-/// Bit q (q = 0..3) set when the points may be coplanar (within `min_distance`) at some t in
-/// [q/4, (q+1)/4], among the quarters of `within` (the others are not examined: their bits
-/// are 0). All bits of `within` when the input cannot be analysed (non-finite or out of the
-/// exact scaling range): never clears a quarter it cannot prove empty.
-unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF);
+/// The filter and the elementary test of one feature pair, sharing their work: filter() runs
+/// the test's stages (a) and (b) (the swept boxes, the coplanarity cubic with its error bound)
+/// and analyses the cubic over the quarters; test() continues from there with stage (c).
+class FilteredCcd {
+ public:
+  /// Bit q (q = 0..3) set when the points may be coplanar (within `min_distance`) at some t
+  /// in [q/4, (q+1)/4], among the quarters of `within` (the others are not examined: their
+  /// bits are 0); 0 when their swept boxes never come within the distance. All bits of
+  /// `within` when the input cannot be analysed (non-finite or out of the exact scaling
+  /// range): never clears a quarter it cannot prove empty. `p` must outlive test().
+  unsigned filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF);
+  /// After filter() returned non-zero: the elementary test of the same points, with the same
+  /// answer, time of impact and counts as vertex_face_ccd / edge_edge_ccd on them.
+  bool test(double& toi, CcdCounters* counters);
+
+ private:
+  Setup<double> S_;
+  const CcdPoints* points_ = nullptr;
+  double d_ = 0, toi_ = 0;
+  CcdKind kind_ = CcdKind::VertexFace;
+  int state_ = 0;  ///< what stages (a) and (b) decided
+};
+
+/// FilteredCcd::filter on its own.
+inline unsigned coplanar_quarters(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF) {
+  FilteredCcd f;
+  return f.filter(kind, p, min_distance, within);
+}
 
 }  // namespace mccd::detail

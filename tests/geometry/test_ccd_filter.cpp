@@ -78,3 +78,39 @@ TEST(CcdFilter, ClearsPairsThatAreNeverCoplanar) {
   // within a distance larger than the motion: every quarter
   EXPECT_EQ(coplanar_quarters(CcdKind::VertexFace, p, 10.0), 15u);
 }
+
+TEST(CcdFilter, TestAfterTheFilterEqualsTheWholeTest) {
+  // FilteredCcd::test continues the filter's setup: the same answers, times of impact and
+  // counts as the elementary tests called from scratch, on touching and random queries, with
+  // and without a minimum distance.
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int compared = 0;
+  for (int n = 0; n < 6000; ++n) {
+    const bool vf = n % 2 == 0;
+    CcdPoints p = n % 3 == 0 ? touching_query(rng, vf) : CcdPoints{};
+    if (n % 3 != 0)
+      for (int i = 0; i < 4; ++i) p.start[i] = Vec3(U(rng), U(rng), U(rng)), p.end[i] = Vec3(U(rng), U(rng), U(rng));
+    const CcdOptions options{n % 5 == 0 ? 0.01 : 0.0};
+    const CcdKind kind = vf ? CcdKind::VertexFace : CcdKind::EdgeEdge;
+    CcdCounters whole, filtered;
+    double toi_whole = -1, toi_filtered = -1;
+    const bool hit_whole = vf ? vertex_face_ccd(p, toi_whole, options, &whole) : edge_edge_ccd(p, toi_whole, options, &whole);
+    FilteredCcd f;
+    if (!f.filter(kind, p, options.min_distance)) {
+      ASSERT_FALSE(hit_whole) << n;  // the filter never clears a contact
+      continue;
+    }
+    ++compared;
+    const bool hit_filtered = f.test(toi_filtered, &filtered);
+    ASSERT_EQ(hit_filtered, hit_whole) << n;
+    if (hit_whole) {
+      ASSERT_EQ(toi_filtered, toi_whole) << n;
+    }
+    EXPECT_EQ(filtered.hits, whole.hits);
+    EXPECT_EQ(filtered.root_tests, whole.root_tests);
+    EXPECT_EQ(filtered.pieces, whole.pieces);
+    EXPECT_EQ(filtered.fast_hits, whole.fast_hits);
+  }
+  EXPECT_GT(compared, 1500);
+}
