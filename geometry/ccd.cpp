@@ -41,14 +41,18 @@ bool box_overlap(const CcdPoints& p, double min_distance, double& mx) {
 /// answer is final (Miss, or Hit with `toi`).
 enum class Prepared { Continue, Miss, Hit, HitUnsafe };
 
+/// `box`: run stage (a) first; without it, the caller's own volume tests stand for it.
 template <CcdKind K>
-Prepared prepare(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters) {
+Prepared prepare(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters, bool box = true) {
   if (counters) ++counters->queries;
   double mx = 0;
-  if (!box_overlap<K>(p, d, mx)) {
+  if (box && !box_overlap<K>(p, d, mx)) {
     if (counters) ++counters->box_culled;
     return Prepared::Miss;
   }
+  if (!box)
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k) mx = std::max(mx, std::max(std::fabs(p.start[i][k]), std::fabs(p.end[i][k])));
   S.kind = K;
   switch (load(p, d, S, mx)) {
     case Load::Ok:
@@ -156,8 +160,8 @@ unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distan
   kind_ = kind;
   points_ = &p;
   d_ = min_distance > 0 ? min_distance : 0.0;
-  const Prepared r = kind == CcdKind::VertexFace ? prepare<CcdKind::VertexFace>(p, d_, S_, toi_, nullptr)
-                                                 : prepare<CcdKind::EdgeEdge>(p, d_, S_, toi_, nullptr);
+  const Prepared r = kind == CcdKind::VertexFace ? prepare<CcdKind::VertexFace>(p, d_, S_, toi_, nullptr, false)
+                                                 : prepare<CcdKind::EdgeEdge>(p, d_, S_, toi_, nullptr, false);
   state_ = static_cast<int>(r);
   switch (r) {
     case Prepared::Miss: return 0;

@@ -17,18 +17,20 @@
 namespace mccd::detail {
 
 /// The filter and the elementary test of one feature pair, sharing their work: filter() runs
-/// the test's stages (a) and (b) (the swept boxes, the coplanarity cubic with its error bound)
-/// and analyses the cubic over the quarters; test() continues from there with stage (c).
+/// the test's stage (b) (the coplanarity cubic with its error bound) and analyses the cubic
+/// over the quarters; test() continues from there with stage (c). Stage (a), the swept boxes,
+/// is left to the caller's volume tests (the broad phase's quarter volumes are tighter).
 class FilteredCcd {
  public:
   /// Bit q (q = 0..3) set when the points may be coplanar (within `min_distance`) at some t
   /// in [q/4, (q+1)/4], among the quarters of `within` (the others are not examined: their
-  /// bits are 0); 0 when their swept boxes never come within the distance. All bits of
-  /// `within` when the input cannot be analysed (non-finite or out of the exact scaling
-  /// range): never clears a quarter it cannot prove empty. `p` must outlive test().
+  /// bits are 0). All bits of `within` when the input cannot be analysed (non-finite or out
+  /// of the exact scaling range): never clears a quarter it cannot prove empty. `p` must
+  /// outlive test().
   unsigned filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF);
-  /// After filter() returned non-zero: the elementary test of the same points, with the same
-  /// answer, time of impact and counts as vertex_face_ccd / edge_edge_ccd on them.
+  /// After filter() returned non-zero: the elementary test of the same points. Whenever their
+  /// swept boxes meet (stage (a) passes), the same answer, time of impact and counts as
+  /// vertex_face_ccd / edge_edge_ccd on them; otherwise it still never misses a contact.
   bool test(double& toi, CcdCounters* counters);
 
  private:

@@ -7,9 +7,21 @@
 namespace mccd::detail {
 
 void join_contacts(const ContactBuffer& buffer, const SceneTopology& scene, StepResult& res) {
+  // Global ids number the meshes in order, so (kind, global a, global b) is the canonical
+  // order (kind, mesh a, a, mesh b, b); the raw records are smaller to sort. Keys are unique
+  // (one contact per feature pair), so any sort gives the same order.
+  std::vector<RawContact> raw(buffer.begin(), buffer.end());
+  auto before = [](const RawContact& x, const RawContact& y) {
+    if (x.kind != y.kind) return x.kind < y.kind;
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  };
+  if (raw.size() > 4096)
+    tbb::parallel_sort(raw.begin(), raw.end(), before);
+  else
+    std::sort(raw.begin(), raw.end(), before);
   res.contacts.clear();
-  res.contacts.reserve(buffer.size());
-  for (const RawContact& r : buffer) {
+  res.contacts.reserve(raw.size());
+  for (const RawContact& r : raw) {
     Contact c{};
     c.kind = r.kind;
     c.toi = r.toi;
@@ -35,11 +47,6 @@ void join_contacts(const ContactBuffer& buffer, const SceneTopology& scene, Step
     res.earliest_toi = std::min(res.earliest_toi, c.toi);
     res.contacts.push_back(c);
   }
-  // Keys are unique (one contact per feature pair), so any sort gives the same order.
-  if (res.contacts.size() > 4096)
-    tbb::parallel_sort(res.contacts.begin(), res.contacts.end());
-  else
-    std::sort(res.contacts.begin(), res.contacts.end());
 }
 
 }  // namespace mccd::detail
