@@ -24,21 +24,30 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       vertex_begin_, vertices_);
   bucket(
       topo.num_edges(), [&](std::size_t e) { return *topo.edge_faces_begin(e); }, edge_begin_, edges_);
-}
 
-VolumeLayout LeafOwnership::layout(const BvhTopology& bvh, const MeshTopology& topo) const {
-  VolumeLayout l;
+  // The storage layout: vertices and edges by owner (isolated vertices last), faces in the
+  // BVH's triangle order.
+  VolumeLayout& l = layout_;
   l.vertex_slot.assign(topo.num_vertices(), kNoFace);
   for (std::size_t s = 0; s < vertices_.size(); ++s) l.vertex_slot[vertices_[s]] = static_cast<std::uint32_t>(s);
   auto next = static_cast<std::uint32_t>(vertices_.size());
   for (std::uint32_t& s : l.vertex_slot)
     if (s == kNoFace) s = next++;  // isolated vertices: stored, never tested
   l.edge_slot.resize(topo.num_edges());
-  for (std::size_t s = 0; s < edges_.size(); ++s) l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
-  l.face_slot.resize(topo.num_faces());
+  edge_ends_.resize(topo.num_edges());
+  for (std::size_t s = 0; s < edges_.size(); ++s) {
+    l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
+    edge_ends_[s] = topo.edges()[edges_[s]];
+  }
   const std::vector<std::uint32_t>& order = bvh.triangle_order();
-  for (std::size_t s = 0; s < order.size(); ++s) l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
-  return l;
+  l.face_slot.resize(topo.num_faces());
+  face_corners_.resize(order.size());
+  face_corner_slots_.resize(order.size());
+  for (std::size_t s = 0; s < order.size(); ++s) {
+    l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
+    face_corners_[s] = topo.faces()[order[s]];
+    for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
+  }
 }
 
 }  // namespace mccd::detail

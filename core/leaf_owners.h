@@ -36,14 +36,24 @@ class LeafOwnership {
   std::uint32_t edge_begin(std::uint32_t node) const { return edge_begin_[node]; }
   std::uint32_t vertex(std::uint32_t slot) const { return vertices_[slot]; }
   std::uint32_t edge(std::uint32_t slot) const { return edges_[slot]; }
+  /// The vertex ids of the edge in `slot`.
+  const Edge& edge_ends(std::uint32_t slot) const { return edge_ends_[slot]; }
+  /// The corners of the face in face slot `slot` (the BVH's triangle order): vertex ids, and
+  /// vertex slots.
+  const Triangle& face_corners(std::uint32_t slot) const { return face_corners_[slot]; }
+  const Triangle& face_corner_slots(std::uint32_t slot) const { return face_corner_slots_[slot]; }
 
   /// Storage in leaf order: vertices and edges by owner (isolated vertices last), faces in the
   /// BVH's triangle order.
-  VolumeLayout layout(const BvhTopology& bvh, const MeshTopology& topo) const;
+  const VolumeLayout& layout() const { return layout_; }
 
  private:
   std::vector<std::uint32_t> vertex_begin_, vertices_;  ///< CSR over BVH nodes
   std::vector<std::uint32_t> edge_begin_, edges_;
+  // Copies in leaf order of what leaf pairs read, so that they read it together.
+  std::vector<Edge> edge_ends_;                               ///< per edge slot
+  std::vector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot
+  VolumeLayout layout_;
 };
 
 /// The feature pairs of leaf pairs and of single leaves under the leaf rule.
@@ -73,13 +83,12 @@ class OwnedPairs {
     if (!ea.n) return;
     surviving_edges(b, qa, within, eb);
     const SweptVolumes<BV>& swept = tests_.swept();
-    const std::vector<Edge>& edges = tests_.topology().edges();
     for (unsigned i = 0; i < ea.n; ++i) {
-      const Edge& x = edges[ea.id[i]];
+      const Edge& x = ea.ends[i];
       for (unsigned j = 0; j < eb.n; ++j) {
         const unsigned m = ea.mask[i] & eb.mask[j];
         if (!m) continue;
-        const Edge& y = edges[eb.id[j]];
+        const Edge& y = eb.ends[j];
         if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
         tests_.test_ee(ea.id[i], eb.id[j], swept.edge_quarters_at(ea.slot[i]), swept.edge_quarters_at(eb.slot[j]), out, m);
       }
@@ -91,22 +100,21 @@ class OwnedPairs {
   void process_self(std::uint32_t leaf, WorkerOutput& out) const {
     const std::uint32_t* faces = bvh_.leaf_triangles(leaf);
     const std::uint32_t nf = bvh_.leaf_count(leaf);
-    const MeshTopology& topo = tests_.topology();
     const SweptVolumes<BV>& swept = tests_.swept();
     for (std::uint32_t s = owners_.vertex_begin(leaf); s != owners_.vertex_begin(leaf + 1); ++s) {
       const std::uint32_t v = owners_.vertex(s);
       for (std::uint32_t k = 0; k < nf; ++k) {
-        const Triangle& t = topo.faces()[faces[k]];
+        const Triangle& t = owners_.face_corners(bvh_.leaf_first(leaf) + k);
         if (t[0] != v && t[1] != v && t[2] != v) tests_.test_vf(v, faces[k], out);
       }
     }
     const std::uint32_t end = owners_.edge_begin(leaf + 1);
     for (std::uint32_t sa = owners_.edge_begin(leaf); sa != end; ++sa) {
       const std::uint32_t a = owners_.edge(sa);
-      const Edge& x = topo.edges()[a];
+      const Edge& x = owners_.edge_ends(sa);
       for (std::uint32_t sb = sa + 1; sb != end; ++sb) {
         const std::uint32_t b = owners_.edge(sb);
-        const Edge& y = topo.edges()[b];
+        const Edge& y = owners_.edge_ends(sb);
         if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
         tests_.test_ee(a, b, swept.edge_quarters_at(sa), swept.edge_quarters_at(sb), out, 0xF);
       }
@@ -118,7 +126,6 @@ class OwnedPairs {
   void vertices_against(std::uint32_t p, std::uint32_t q, const Quarters& qq, unsigned within,
                         WorkerOutput& out) const {
     const SweptVolumes<BV>& swept = tests_.swept();
-    const MeshTopology& topo = tests_.topology();
     const std::uint32_t* faces = bvh_.leaf_triangles(q);
     const std::uint32_t nf = bvh_.leaf_count(q), face_slot = bvh_.leaf_first(q);
     Quarters face_quarters[BvhTopology::kMaxLeaf];
@@ -128,12 +135,14 @@ class OwnedPairs {
       if (!m) continue;
       const std::uint32_t v = owners_.vertex(s);
       for (std::uint32_t k = 0; k < nf; ++k) {
-        const Triangle& t = topo.faces()[faces[k]];
+        const Triangle& t = owners_.face_corners(face_slot + k);
         if (t[0] == v || t[1] == v || t[2] == v) continue;
         ++out.stats.feature_box_tests;
         if (!swept.vertex_at(s).overlaps(swept.face_at(face_slot + k))) continue;
         if (!(merged >> k & 1u)) {
-          face_quarters[k] = swept.face_quarters(t);
+          const Triangle& c = owners_.face_corner_slots(face_slot + k);
+          face_quarters[k] = Quarters::merged(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
+          face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
           merged |= 1u << k;
         }
         tests_.test_vf_quarters(v, swept.vertex_quarters_at(s), t, faces[k], face_quarters[k], out, m);
@@ -144,6 +153,7 @@ class OwnedPairs {
   /// Owned edges that may meet a leaf: ids, slots and the quarters where they may.
   struct Surviving {
     std::uint32_t id[kMaxOwned], slot[kMaxOwned];
+    Edge ends[kMaxOwned];
     unsigned mask[kMaxOwned];
     unsigned n = 0;
   };
@@ -155,6 +165,7 @@ class OwnedPairs {
       if (!m) continue;
       out.id[out.n] = owners_.edge(s);
       out.slot[out.n] = s;
+      out.ends[out.n] = owners_.edge_ends(s);
       out.mask[out.n++] = m;
     }
   }

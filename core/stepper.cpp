@@ -35,7 +35,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       leaf_(scene, bvh_, owners_, nodes_, tests_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
-  swept_.resize(topo, owners_.layout(bvh_, topo));
+  swept_.resize(topo, owners_.layout());
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   bool any_static = false;
