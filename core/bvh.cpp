@@ -80,7 +80,7 @@ class Builder {
     nodes_.push_back({0, 0});
     depth_ = std::max(depth_, level);
     if (hi - lo <= max_leaf_) {
-      nodes_[index] = {index + 1, static_cast<std::uint32_t>(lo << 2 | (hi - lo - 1))};
+      nodes_[index] = {index + 1, static_cast<std::uint32_t>(lo << 4 | (hi - lo - 1))};
       return index;
     }
     const std::size_t m = kind_ == BvhBuild::Median ? split_median(lo, hi) : split_sah(lo, hi);

@@ -88,8 +88,8 @@ void validate(const SceneOptions& o) {
   if (static_cast<unsigned>(o.representatives) > static_cast<unsigned>(Representatives::Canonical))
     throw Error("scene options: representatives " + std::to_string(static_cast<unsigned>(o.representatives)) +
                 " is not a Representatives (expected default, leaf or canonical)");
-  if (o.leaf_size > 4)
-    throw Error("scene options: leaf_size must be 0 (default) or 1 to 4, got " + std::to_string(o.leaf_size));
+  if (o.leaf_size > 16)
+    throw Error("scene options: leaf_size must be 0 (default) or 1 to 16, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))
     throw Error("scene options: min_distance must be finite and >= 0, got " + std::to_string(o.min_distance));
   if (!(o.rebuild_sprout_ratio > 0) || !(o.rebuild_invalid_ratio > 0))

@@ -19,7 +19,7 @@ SceneTopology::SceneTopology(const std::vector<TriMesh>& meshes, std::vector<Mes
   for (const TriMesh& m : meshes) {
     const std::size_t off = vertex_offsets_.back();
     const std::size_t nv = off + m.num_vertices();
-    if (nv >= std::size_t(1) << 31 || faces.size() + m.num_faces() >= std::size_t(1) << 30)
+    if (nv >= std::size_t(1) << 31 || faces.size() + m.num_faces() >= std::size_t(1) << 28)
       throw Error("scene: too many vertices or triangles for 32-bit ids (at mesh " +
                   std::to_string(vertex_offsets_.size() - 1) + ", " + m.name + ")");
     const auto o = static_cast<std::uint32_t>(off);

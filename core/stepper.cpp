@@ -23,7 +23,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       x0_(initial),
       x1_(initial),
       bvh_(triangle_bounds(scene.topology().faces(), initial), options.bvh,
-           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 4u), scene.face_offsets()),
+           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 8u), scene.face_offsets()),
       refit_plan_(bvh_,
                   [&](std::uint32_t n) {
                     const std::uint32_t m = bvh_.mesh_of_node(n);

@@ -1,7 +1,7 @@
 // One real step, timed per stage: the engine's own view of a Time-of-Impact scene (no truth
 // check), for measuring changes to the core. Repeats the step from scratch (a new Scene each
 // time, so the front is built from the root as in `mccd toi-check`) and prints the medians.
-//   bench_step [DIR] [--bvh median|sah] [--leaf 1..4] [--method fbd|phc|traverse] [--threads N] [--repeat K]
+//   bench_step [DIR] [--bvh median|sah] [--leaf 1..16] [--method fbd|phc|traverse] [--threads N] [--repeat K]
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>

@@ -30,7 +30,7 @@ CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 
 /// `--method NAME` (bruteforce, traverse, phc, fbd, or its alias front) into `method`.
 CLI::Option* add_method_option(CLI::App& app, Method& method);
-/// `--bvh median|sah` and `--leaf-size K` (1 to 4) into `bvh` and `leaf_size`.
+/// `--bvh median|sah` and `--leaf-size K` (1 to 16) into `bvh` and `leaf_size`.
 void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size);
 /// `--threads N` (1 to kMaxThreads) into `threads`, which keeps its default (the machine's
 /// hardware concurrency) when absent.
