@@ -11,12 +11,13 @@
 #include <mccd/core/bvh.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/swept_volumes.h>
 
 namespace mccd::detail {
 
 template <BoundingVolume BV, class NodeVolume, class FeatureTests>
-void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const std::vector<NodeVolume>& nodes,
+void brute_force(const SceneTopology& scene, const BvhTopology& bvh, const LargeVector<NodeVolume>& nodes,
                  const SweptVolumes<BV>& swept, const FeatureTests& tests, WorkerOutput& out) {
   const MeshTopology& topo = scene.topology();
   const bool filter = scene.has_skipped_pairs();

@@ -75,9 +75,10 @@ class BvhTopology {
 /// Bottom-up refit of `volumes` (one per node) from `triangle_volume(t)`, serially over the
 /// node range [begin, end) of one subtree, deepest nodes first. Children are always after
 /// their parent in the array, so a reverse sweep sees children before parents.
-template <class BV, class TriangleVolume>
-void refit_range(const BvhTopology& bvh, std::vector<BV>& volumes, std::uint32_t begin, std::uint32_t end,
+template <class Volumes, class TriangleVolume>
+void refit_range(const BvhTopology& bvh, Volumes& volumes, std::uint32_t begin, std::uint32_t end,
                  const TriangleVolume& triangle_volume) {
+  using BV = typename Volumes::value_type;
   for (std::uint32_t i = end; i-- > begin;) {
     if (bvh.leaf(i)) {
       const std::uint32_t* t = bvh.leaf_triangles(i);

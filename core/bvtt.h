@@ -14,6 +14,7 @@
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/kdop.h>
 #include <mccd/geometry/topology.h>
 
@@ -31,7 +32,7 @@ namespace mccd::detail {
 template <class NodeVolume, class Leaf>
 class Bvtt {
  public:
-  Bvtt(const BvhTopology& bvh, const std::vector<NodeVolume>& volumes, const SceneTopology& scene, const Leaf& leaf,
+  Bvtt(const BvhTopology& bvh, const LargeVector<NodeVolume>& volumes, const SceneTopology& scene, const Leaf& leaf,
        const QueryState& query)
       : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
 
@@ -149,7 +150,7 @@ class Bvtt {
   }
 
   const BvhTopology& bvh_;
-  const std::vector<NodeVolume>& volumes_;
+  const LargeVector<NodeVolume>& volumes_;
   const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;

@@ -22,7 +22,7 @@ void BvttFront::build(std::vector<WorkerOutput>& pieces) {
     for (const NodePair& p : o.front) nodes_[start[p.a]++] = p;
     o.front = std::vector<NodePair>();  // the pieces are not kept
   }
-  next_ = std::vector<NodePair>();
+  next_ = LargeVector<NodePair>();
   valid_ = true;
   sprouted_since_build_ = invalidated_since_build_ = 0;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <mccd/core/worker_output.h>
+#include <mccd/geometry/large_allocator.h>
 
 namespace mccd::detail {
 
@@ -13,7 +14,7 @@ class BvttFront {
  public:
   /// Whether the next fbd step must build the front from the root.
   bool needs_build() const { return !valid_; }
-  const std::vector<NodePair>& nodes() const { return nodes_; }
+  const LargeVector<NodePair>& nodes() const { return nodes_; }
   std::size_t size() const { return nodes_.size(); }
 
   /// A fresh front from the pieces of a traversal from the root (concatenated in piece order,
@@ -29,14 +30,14 @@ class BvttFront {
   /// Forgets the front and releases its buffers (the memory cap).
   void release() {
     valid_ = false;
-    nodes_ = std::vector<NodePair>();
-    next_ = std::vector<NodePair>();
+    nodes_ = LargeVector<NodePair>();
+    next_ = LargeVector<NodePair>();
   }
   /// Bytes held by the front buffers.
   std::size_t bytes() const { return (nodes_.capacity() + next_.capacity()) * sizeof(NodePair); }
 
  private:
-  std::vector<NodePair> nodes_, next_;
+  LargeVector<NodePair> nodes_, next_;
   std::uint64_t sprouted_since_build_ = 0, invalidated_since_build_ = 0;
   bool valid_ = false;
 };

@@ -20,7 +20,7 @@ class CanonicalPairs {
   using Quarters = QuarterVolume<BV>;
 
   /// `nodes`: the quarter volumes of the BVH nodes.
-  CanonicalPairs(const BvhTopology& bvh, const Carriers& carriers, const std::vector<Quarters>& nodes,
+  CanonicalPairs(const BvhTopology& bvh, const Carriers& carriers, const LargeVector<Quarters>& nodes,
                  const FeatureTests<BV, NarrowPhase>& tests)
       : bvh_(bvh), carriers_(carriers), nodes_(nodes), tests_(tests) {}
 
@@ -107,7 +107,7 @@ class CanonicalPairs {
 
   const BvhTopology& bvh_;
   const Carriers& carriers_;
-  const std::vector<Quarters>& nodes_;
+  const LargeVector<Quarters>& nodes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
 };
 

@@ -65,7 +65,7 @@ class OwnedPairs {
   static constexpr unsigned kMaxOwned = 3 * BvhTopology::kMaxLeaf;
 
   /// `nodes`: the quarter volumes of the BVH nodes.
-  OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const std::vector<Quarters>& nodes,
+  OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const LargeVector<Quarters>& nodes,
              const FeatureTests<BV, NarrowPhase>& tests)
       : bvh_(bvh), owners_(owners), nodes_(nodes), tests_(tests) {}
 
@@ -172,7 +172,7 @@ class OwnedPairs {
 
   const BvhTopology& bvh_;
   const LeafOwnership& owners_;
-  const std::vector<Quarters>& nodes_;
+  const LargeVector<Quarters>& nodes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
 };
 

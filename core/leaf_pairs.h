@@ -26,7 +26,7 @@ class LeafPairs {
   /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes) and `tests` are owned by the
   /// caller and outlive this object.
   LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
-            const std::vector<Quarters>& nodes, const Tests& tests)
+            const LargeVector<Quarters>& nodes, const Tests& tests)
       : scene_(scene),
         tests_(tests),
         owned_rule_(scene.representatives() == Representatives::Leaf),

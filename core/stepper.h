@@ -71,7 +71,7 @@ class Stepper {
   Positions x0_, x1_;
   BvhTopology bvh_;
   RefitPlan refit_plan_;
-  std::vector<NodeVolume> nodes_;  ///< per BVH node: its quarter volumes
+  LargeVector<NodeVolume> nodes_;  ///< per BVH node: its quarter volumes
   LeafOwnership owners_;   ///< the leaf rule's owners; also the volumes' storage layout
   SweptVolumes<BV> swept_;
   QueryState query_;

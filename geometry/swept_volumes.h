@@ -30,6 +30,7 @@
 #include <vector>
 
 #include <mccd/geometry/kdop.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/topology.h>
 
@@ -60,6 +61,16 @@ class SweptVolumes {
     vertex_quarters_.resize(topo.num_vertices());
     edge_quarters_.resize(topo.num_edges());
     face_.resize(topo.num_faces());
+  }
+
+  /// Zeroes the storage after resize() (which leaves it untouched) through `for_chunks`, a
+  /// parallel loop (see first_touch in geometry/large_allocator.h).
+  template <class ForChunks>
+  void first_touch(const ForChunks& for_chunks) {
+    detail::first_touch(vertex_, for_chunks);
+    detail::first_touch(vertex_quarters_, for_chunks);
+    detail::first_touch(edge_quarters_, for_chunks);
+    detail::first_touch(face_, for_chunks);
   }
 
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
@@ -129,10 +140,10 @@ class SweptVolumes {
  private:
   VolumeLayout layout_;
   // by slot:
-  std::vector<BV> vertex_;                  ///< per vertex: the merge of its quarters
-  std::vector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
-  std::vector<Quarters> edge_quarters_;     ///< per edge: merge of its two vertices' quarters
-  std::vector<BV> face_;                    ///< per face: merge of its three vertex volumes
+  LargeVector<BV> vertex_;                  ///< per vertex: the merge of its quarters
+  LargeVector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
+  LargeVector<Quarters> edge_quarters_;     ///< per edge: merge of its two vertices' quarters
+  LargeVector<BV> face_;                    ///< per face: merge of its three vertex volumes
 };
 
 }  // namespace mccd::detail

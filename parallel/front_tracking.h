@@ -27,7 +27,7 @@ inline constexpr std::size_t kFrontBlock = 2048;
 template <class Bvtt>
 std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<WorkerOutput>& blocks,
                         ContactBuffer& contacts, bool readonly = false) {
-  const std::vector<NodePair>& nodes = front.nodes();
+  const LargeVector<NodePair>& nodes = front.nodes();
   const std::size_t n = (nodes.size() + kFrontBlock - 1) / kFrontBlock;
   if (blocks.size() < n) blocks.resize(n);
   auto run = [&](std::size_t b) {

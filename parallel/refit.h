@@ -46,8 +46,9 @@ class RefitPlan {
   }
 
   /// Refits `volumes` (one per node) from `leaf_volume(triangle)`.
-  template <class BV, class LeafVolume>
-  void run(const BvhTopology& bvh, std::vector<BV>& volumes, const LeafVolume& leaf_volume) const {
+  template <class Volumes, class LeafVolume>
+  void run(const BvhTopology& bvh, Volumes& volumes, const LeafVolume& leaf_volume) const {
+    using BV = typename Volumes::value_type;
     if (roots_.size() == 1) {
       refit_range(bvh, volumes, roots_[0], bvh.nodes()[roots_[0]].end, leaf_volume);
     } else if (!roots_.empty()) {
@@ -64,8 +65,8 @@ class RefitPlan {
   }
 
   /// Refits the static subtrees (once, at the start; the top is refitted by run()).
-  template <class BV, class LeafVolume>
-  void run_static(const BvhTopology& bvh, std::vector<BV>& volumes, const LeafVolume& leaf_volume) const {
+  template <class Volumes, class LeafVolume>
+  void run_static(const BvhTopology& bvh, Volumes& volumes, const LeafVolume& leaf_volume) const {
     for (std::uint32_t r : static_roots_) refit_range(bvh, volumes, r, bvh.nodes()[r].end, leaf_volume);
   }
 
