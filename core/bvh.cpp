@@ -5,6 +5,10 @@
 #include <limits>
 #include <numeric>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_invoke.h>
+
 namespace mccd {
 
 namespace {
@@ -75,22 +79,51 @@ class Builder {
   }
 
   // Builds the subtree over order[lo, hi) at node index nodes.size(); returns its index.
-  std::uint32_t build(std::size_t lo, std::size_t hi, std::uint32_t level) {
-    const auto index = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.push_back({0, 0});
-    depth_ = std::max(depth_, level);
+  std::uint32_t build(std::size_t lo, std::size_t hi, std::uint32_t level) { return build(nodes_, lo, hi, level, depth_); }
+
+ private:
+  /// Ranges of at least this many triangles build their two halves in parallel (into their
+  /// own arrays, spliced in order: the tree does not depend on the thread count).
+  static constexpr std::size_t kParallelBuild = 8192;
+
+  std::uint32_t build(std::vector<BvhNode>& out, std::size_t lo, std::size_t hi, std::uint32_t level,
+                      std::uint32_t& depth) {
+    const auto index = static_cast<std::uint32_t>(out.size());
+    out.push_back({0, 0});
+    depth = std::max(depth, level);
     if (hi - lo <= max_leaf_) {
-      nodes_[index] = {index + 1, static_cast<std::uint32_t>(lo << 4 | (hi - lo - 1))};
+      out[index] = {index + 1, static_cast<std::uint32_t>(lo << 4 | (hi - lo - 1))};
       return index;
     }
     const std::size_t m = kind_ == BvhBuild::Median ? split_median(lo, hi) : split_sah(lo, hi);
-    build(lo, m, level + 1);
-    const std::uint32_t r = build(m, hi, level + 1);
-    nodes_[index] = {static_cast<std::uint32_t>(nodes_.size()), r};
+    if (hi - lo < kParallelBuild) {
+      build(out, lo, m, level + 1, depth);
+      const std::uint32_t r = build(out, m, hi, level + 1, depth);
+      out[index] = {static_cast<std::uint32_t>(out.size()), r};
+      return index;
+    }
+    // The halves touch disjoint ranges of order_ and only read the triangles.
+    std::vector<BvhNode> left, right;
+    std::uint32_t dl = 0, dr = 0;
+    tbb::parallel_invoke([&] { build(left, lo, m, level + 1, dl); }, [&] { build(right, m, hi, level + 1, dr); });
+    depth = std::max({depth, dl, dr});
+    splice(out, left);
+    const auto r = static_cast<std::uint32_t>(out.size());
+    splice(out, right);
+    out[index] = {static_cast<std::uint32_t>(out.size()), r};
     return index;
   }
 
- private:
+  /// Appends a subtree built from index 0: its node indices move by where it lands (a leaf's
+  /// triangle range does not).
+  static void splice(std::vector<BvhNode>& out, const std::vector<BvhNode>& sub) {
+    const auto base = static_cast<std::uint32_t>(out.size());
+    for (std::uint32_t i = 0; i < sub.size(); ++i) {
+      const bool leaf = sub[i].end == i + 1;
+      out.push_back({sub[i].end + base, leaf ? sub[i].right_or_leaf : sub[i].right_or_leaf + base});
+    }
+  }
+
   const Vec3& c(std::uint32_t t) const { return tris_[t].centroid; }
 
   void centroid_bounds(std::size_t lo, std::size_t hi, Vec3& mn, Vec3& mx) const {
@@ -193,10 +226,12 @@ class Builder {
 
 std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x) {
   std::vector<TriangleBounds> out(faces.size());
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Vec3 a = x.point(faces[f][0]), b = x.point(faces[f][1]), c = x.point(faces[f][2]);
-    out[f] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), (a + b + c) / 3.0};
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const Vec3 a = x.point(faces[f][0]), b = x.point(faces[f][1]), c = x.point(faces[f][2]);
+      out[f] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), (a + b + c) / 3.0};
+    }
+  });
   return out;
 }
 

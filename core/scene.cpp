@@ -42,6 +42,14 @@ struct Scene::Impl {
   std::atomic<bool> busy{false};
   Positions last_end;  ///< the end positions of the last step (initially the meshes'), for advance()
 
+  /// Runs `f` in the scene's arena (the caller's when none is set), isolated: while this thread
+  /// waits inside, it takes only `f`'s own tasks, never an outer task of the host.
+  template <class F>
+  auto in_arena(const F& f) {
+    auto body = [&] { return tbb::this_task_arena::isolate(f); };
+    return options.arena ? options.arena->execute(body) : body();
+  }
+
   Impl(std::vector<TriMesh> ms, SceneOptions opt) : options(opt), meshes(std::move(ms)) {
     validate(options);
     for (std::size_t m = 0; m < meshes.size(); ++m) {
@@ -53,11 +61,16 @@ struct Scene::Impl {
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),
                 last_end.xyz().begin() + static_cast<std::ptrdiff_t>(3 * topo->vertex_offset(m)));
-    if (options.volume == VolumeKind::Kdop18)
-      dop = std::make_unique<detail::Stepper<Kdop18>>(*topo, options, last_end);
-    else
-      aabb = std::make_unique<detail::Stepper<Aabb>>(*topo, options, last_end);
+    // The stepper's set-up (the BVH build, the first touch of its arrays) is parallel: in the
+    // scene's arena, isolated like a step.
+    in_arena([&] {
+      if (options.volume == VolumeKind::Kdop18)
+        dop = std::make_unique<detail::Stepper<Kdop18>>(*topo, options, last_end);
+      else
+        aabb = std::make_unique<detail::Stepper<Aabb>>(*topo, options, last_end);
+    });
   }
+
 
   StepResult query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
                    detail::StepKind kind, StepStats* stats);
@@ -109,14 +122,11 @@ struct Scene::Impl {
   }
 
   StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full) {
-    auto body = [&] {
-      // Isolated: while this thread waits inside the step, it takes only the step's own tasks,
-      // never an outer task of the host that might step this scene again.
-      return tbb::this_task_arena::isolate([&] { return dop ? dop->step(method, kind) : aabb->step(method, kind); });
-    };
     StepResult r;
     try {
-      r = options.arena ? options.arena->execute(body) : body();
+      // Isolated: while this thread waits inside the step, it takes only the step's own tasks,
+      // never an outer task of the host that might step this scene again.
+      r = in_arena([&] { return dop ? dop->step(method, kind) : aabb->step(method, kind); });
     } catch (...) {
       // A failure inside the engine (out of memory): the front may be half built; forget it.
       if (dop) dop->invalidate_front();

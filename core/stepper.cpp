@@ -36,17 +36,11 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
   swept_.resize(topo, owners_.layout());
-  // The large arrays' first touch (page faults and the kernel's zeroing) in parallel, in the
-  // scene's arena.
-  auto touch = [&] {
-    auto chunks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
-    swept_.first_touch(chunks);
-    first_touch(nodes_, chunks);
-  };
-  if (options.arena)
-    options.arena->execute([&] { tbb::this_task_arena::isolate(touch); });
-  else
-    tbb::this_task_arena::isolate(touch);
+  // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
+  // scene constructs its stepper in its arena).
+  auto chunks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
+  swept_.first_touch(chunks);
+  first_touch(nodes_, chunks);
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   bool any_static = false;

@@ -21,15 +21,24 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   struct HalfEdge {
     std::uint32_t hi, lo, face, corner;
   };
+  // Sorted by (hi, lo, face) in linear time: bucketed by hi (a counting sort), then each
+  // bucket, a few half-edges around one vertex, sorted by (lo, face).
   std::vector<HalfEdge> half(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f)
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      std::uint32_t a = faces[f][k], b = faces[f][(k + 1) % 3];
-      half[3 * f + k] = {std::max(a, b), std::min(a, b), static_cast<std::uint32_t>(f), k};
-    }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.hi != y.hi ? x.hi < y.hi : (x.lo != y.lo ? x.lo < y.lo : x.face < y.face);
-  });
+  {
+    std::vector<std::uint32_t> start(num_vertices + 1, 0);
+    for (const Triangle& t : faces)
+      for (std::uint32_t k = 0; k < 3; ++k) ++start[std::max(t[k], t[(k + 1) % 3]) + 1];
+    for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = faces[f][k], b = faces[f][(k + 1) % 3];
+        half[at[std::max(a, b)]++] = {std::max(a, b), std::min(a, b), static_cast<std::uint32_t>(f), k};
+      }
+    auto before = [](const HalfEdge& x, const HalfEdge& y) { return x.lo != y.lo ? x.lo < y.lo : x.face < y.face; };
+    for (std::size_t v = 0; v < num_vertices; ++v)
+      std::sort(half.begin() + start[v], half.begin() + start[v + 1], before);
+  }
   // Half-edges of one edge are adjacent after the sort, ordered by face: the CSR of edge
   // faces falls out directly.
   face_edges_.assign(nf, {0, 0, 0});

@@ -1,6 +1,7 @@
 #include "run_table.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -11,9 +12,6 @@ namespace mccd::cli {
 
 namespace {
 
-bool same_pair(const Contact& x, const Contact& y) {
-  return x.kind == y.kind && x.mesh_a == y.mesh_a && x.a == y.a && x.mesh_b == y.mesh_b && x.b == y.b;
-}
 
 std::string duration(double s) {
   char buf[32];
@@ -33,6 +31,12 @@ std::string impact_text(double t) {
   return buf;
 }
 
+StepAccumulator::PairKey StepAccumulator::key(const Contact& c) {
+  // (kind, mesh_a, a) then (mesh_b, b): ordered as the contacts' canonical order
+  return {std::uint64_t(c.kind == ContactKind::EdgeEdge) << 63 | std::uint64_t(c.mesh_a) << 32 | c.a,
+          std::uint64_t(c.mesh_b) << 32 | c.b};
+}
+
 bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResult& r) {
   if (substep == 0) {
     row_ = StepRow{};
@@ -50,12 +54,17 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     row_.ee = r.stats.ee_contacts;
     return true;
   }
-  pairs_.insert(pairs_.end(), r.contacts.begin(), r.contacts.end());
+  // Each sub-step's contacts come sorted (the canonical order), and so do their keys: merged
+  // in linear time, each pair kept once.
+  keys_.clear();
+  for (const Contact& c : r.contacts) keys_.push_back(key(c));
+  merged_.clear();
+  std::merge(pairs_.begin(), pairs_.end(), keys_.begin(), keys_.end(), std::back_inserter(merged_));
+  merged_.erase(std::unique(merged_.begin(), merged_.end()), merged_.end());
+  pairs_.swap(merged_);
   if (int(substep) + 1 < substeps_) return false;
-  std::sort(pairs_.begin(), pairs_.end());
-  pairs_.erase(std::unique(pairs_.begin(), pairs_.end(), same_pair), pairs_.end());
-  row_.vf = std::size_t(std::count_if(pairs_.begin(), pairs_.end(),
-                                      [](const Contact& c) { return c.kind == ContactKind::VertexFace; }));
+  // vertex-face pairs first (ContactKind order)
+  row_.vf = std::size_t(std::count_if(pairs_.begin(), pairs_.end(), [](const PairKey& k) { return k.first >> 63 == 0; }));
   row_.ee = pairs_.size() - row_.vf;
   return true;
 }

@@ -2,6 +2,8 @@
 /// @file What `mccd run` prints: one row per step (a frame interval, its sub-steps taken
 /// together), the legend of the --verbose columns, and the summary at the end.
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <limits>
 #include <vector>
 
@@ -29,7 +31,11 @@ class StepAccumulator {
  private:
   int substeps_;
   StepRow row_;
-  std::vector<Contact> pairs_;  // the step's contacts so far, to count each pair once
+  /// A contact's pair as two words, ordered as the contacts (mesh ids below 2^31).
+  using PairKey = std::pair<std::uint64_t, std::uint64_t>;
+  static PairKey key(const Contact& c);
+  std::vector<PairKey> pairs_;  // the step's pairs so far, sorted, each once
+  std::vector<PairKey> merged_, keys_;
 };
 
 /// The per-step table: step, VF, EE, first impact, time; --verbose adds the statistics.
