@@ -94,9 +94,16 @@ struct alignas(16) QuarterDop {
 #if defined(__SSE2__)
     __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[0]), _mm_load_ps(o.hi[0])),
                            _mm_cmpgt_ps(_mm_load_ps(o.lo[0]), _mm_load_ps(hi[0])));
-    for (int s = 1; s < Slabs; ++s)
+    auto slab = [&](int s) {
       sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[s]), _mm_load_ps(o.hi[s])),
                                      _mm_cmpgt_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(hi[s]))));
+    };
+    slab(1);
+    slab(2);
+    // Most pairs that do not overlap are apart along an axis already: stop after the box.
+    if constexpr (Slabs > 3)
+      if ((~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu) == 0) return 0;
+    for (int s = 3; s < Slabs; ++s) slab(s);
     return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
 #else
     unsigned mask = 0;
