@@ -142,9 +142,11 @@ std::string ContactsFile::ending(std::size_t steps, const std::string& why, cons
 StatsFile::StatsFile(const std::string& path, const RunFacts& facts) : StreamedFile(path), substeps_(facts.substeps) {
   check_extension("--stats", path, {".json"});
   nlohmann::json f = facts_json("mccd step statistics", facts);
-  f["fields"] = "one record per sub-step: contacts; earliest_toi in frame time (null: none); bounding-volume, "
-                "feature-box and elementary (vf_tests, ee_tests) test counts; per-stage elementary test counters; "
-                "BVTT front size, nodes sprouted and invalidated, rebuilds; orphan pairs tested; stage times in s";
+  f["fields"] = "one record per sub-step: contacts; earliest_toi in frame time (null: none); vertices updated and "
+                "BVH nodes refitted; bounding-volume, triangle-pair and feature-pair volume test counts, the pairs the "
+                "coplanarity filter removed (vf_filtered, ee_filtered) and elementary tests run (vf_tests, ee_tests); "
+                "per-stage elementary test counters; BVTT front size, nodes sprouted and invalidated, rebuilds; orphan "
+                "pairs tested; stage times in s";
   file_.write(json_head(f, "steps"));
   file_.flush();
 }
@@ -152,8 +154,9 @@ StatsFile::StatsFile(const std::string& path, const RunFacts& facts) : StreamedF
 void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) {
   const StepStats& s = r.stats;
   auto counters = [](const CcdCounters& c) {
-    return nlohmann::json{{"queries", c.queries},       {"after_box", c.box_culled}, {"after_coplanarity", c.coplanar_culled},
-                          {"root_tests", c.root_tests}, {"fallbacks", c.fallbacks},  {"hits", c.hits}};
+    return nlohmann::json{{"queries", c.queries},       {"box_culled", c.box_culled}, {"coplanar_culled", c.coplanar_culled},
+                          {"root_tests", c.root_tests}, {"fast_hits", c.fast_hits},   {"fast_misses", c.fast_misses},
+                          {"fallbacks", c.fallbacks},   {"pieces", c.pieces},         {"hits", c.hits}};
   };
   nlohmann::json j = {
       {"frame", step},
@@ -164,8 +167,13 @@ void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) 
       {"earliest_toi", r.contacts.empty() ? nlohmann::json(nullptr)
                                           : nlohmann::json(frame_time(step, substep, substeps_, r.earliest_toi))},
       {"method", to_string(s.method)},
+      {"updated_vertices", s.updated_vertices},
+      {"refit_nodes", s.refit_nodes},
       {"volume_tests", s.volume_tests},
+      {"triangle_tests", s.triangle_tests},
       {"feature_box_tests", s.feature_box_tests},
+      {"vf_filtered", s.vf_filtered},
+      {"ee_filtered", s.ee_filtered},
       {"vf_tests", s.vf_tests},
       {"ee_tests", s.ee_tests},
       {"vf_ccd", counters(s.vf_ccd)},
