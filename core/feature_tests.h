@@ -67,19 +67,7 @@ class FeatureTests {
   void test_vf_quarters(std::uint32_t v, const Quarters& vertex_quarters, const Triangle& t, std::uint32_t f,
                         const Quarters& face_quarters, WorkerOutput& out, unsigned within) const {
     const unsigned pieces = vertex_quarters.overlap_mask(face_quarters, within);
-    if (!pieces) return;
-    CcdPoints p;
-    load({v, t[0], t[1], t[2]}, p);
-    typename NarrowPhase::Query q;
-    const unsigned quarters = narrow_.filter(q, CcdKind::VertexFace, p, pieces);
-    if (!quarters) {
-      ++out.stats.vf_filtered;
-      return;
-    }
-    if (!wanted(std::countr_zero(quarters), v, f, ContactKind::VertexFace, out)) return;
-    ++out.stats.vf_tests;
-    double toi = 0;
-    if (narrow_.test(q, CcdKind::VertexFace, toi, out.stats)) hit({v, f, ContactKind::VertexFace, toi}, out);
+    if (pieces) narrow({v, t[0], t[1], t[2]}, v, f, ContactKind::VertexFace, pieces, out);
   }
 
   /// Edges a and b (sharing no vertex). `within` as for test_vf.
@@ -97,18 +85,7 @@ class FeatureTests {
     if (!pieces) return;
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
-    CcdPoints p;
-    load({ea[0], ea[1], eb[0], eb[1]}, p);
-    typename NarrowPhase::Query q;
-    const unsigned quarters = narrow_.filter(q, CcdKind::EdgeEdge, p, pieces);
-    if (!quarters) {
-      ++out.stats.ee_filtered;
-      return;
-    }
-    if (!wanted(std::countr_zero(quarters), a, b, ContactKind::EdgeEdge, out)) return;
-    ++out.stats.ee_tests;
-    double toi = 0;
-    if (narrow_.test(q, CcdKind::EdgeEdge, toi, out.stats)) hit({a, b, ContactKind::EdgeEdge, toi}, out);
+    narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
   }
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.
@@ -117,6 +94,27 @@ class FeatureTests {
   }
 
  private:
+  /// The narrow phase of a pair past its volume tests, in the quarters `pieces`: the points
+  /// `ids` (VF: vertex, then the face's corners; EE: edge a's ends, then edge b's), the pair
+  /// (a, b) as reported.
+  void narrow(const std::array<std::uint32_t, 4>& ids, std::uint32_t a, std::uint32_t b, ContactKind kind,
+              unsigned pieces, WorkerOutput& out) const {
+    const bool vf = kind == ContactKind::VertexFace;
+    const CcdKind ccd = vf ? CcdKind::VertexFace : CcdKind::EdgeEdge;
+    CcdPoints p;
+    load(ids, p);
+    typename NarrowPhase::Query q;
+    const unsigned quarters = narrow_.filter(q, ccd, p, pieces);
+    if (!quarters) {
+      ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
+      return;
+    }
+    if (!wanted(std::countr_zero(quarters), a, b, kind, out)) return;
+    ++(vf ? out.stats.vf_tests : out.stats.ee_tests);
+    double toi = 0;
+    if (narrow_.test(q, ccd, toi, out.stats)) hit({a, b, kind, toi}, out);
+  }
+
   /// Whether a pair that passed its volume tests goes to the narrow phase. Earliest queries
   /// skip pairs that cannot meet before the best time found so far; candidate queries collect
   /// the pair instead, with the start of its first meeting quarter as the time.

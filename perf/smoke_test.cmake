@@ -14,11 +14,17 @@ foreach(f runs.csv results.md speedup.png stages.png volume_tests.png front_leng
     message(FATAL_ERROR "bench_core wrote no ${f}")
   endif()
 endforeach()
-# 4 scenes x 3 methods x 2 thread counts x (warm-up + 1 run), plus the header
+# 4 scenes x (3 methods x 2 thread counts x (warm-up + 1 run) + 2 runs in the paper's setting),
+# plus the header
 file(STRINGS ${WORK_DIR}/results/runs.csv lines)
 list(LENGTH lines n)
-if(NOT n EQUAL 49)
-  message(FATAL_ERROR "runs.csv has ${n} lines, expected 49")
+if(NOT n EQUAL 57)
+  message(FATAL_ERROR "runs.csv has ${n} lines, expected 57")
+endif()
+file(STRINGS ${WORK_DIR}/results/runs.csv paper REGEX ",paper,")
+list(LENGTH paper n)
+if(NOT n EQUAL 8)
+  message(FATAL_ERROR "runs.csv has ${n} runs in the paper's setting, expected 8")
 endif()
 file(GLOB leftovers ${WORK_DIR}/results/*.tmp* ${WORK_DIR}/cache/*.tmp*)
 if(leftovers)

@@ -57,6 +57,7 @@ struct ToiOptions {
   int threads = 1;
   BvhBuild bvh = BvhBuild::Sah;
   unsigned leaf_size = 0;
+  Representatives rule = Representatives::Default;
   bool static_orphans = false;
 };
 
@@ -94,6 +95,7 @@ int toi_check(const ToiOptions& a) {
   opt.min_distance = a.min_distance;
   opt.bvh = a.bvh;
   opt.leaf_size = a.leaf_size;
+  opt.representatives = a.rule;
   const int threads = a.threads;
   tbb::task_arena arena(static_cast<int>(threads));
   opt.arena = &arena;
@@ -136,29 +138,48 @@ int toi_check(const ToiOptions& a) {
   const KindReport vf = report("vertex-face", listed_vf, vf_true, got_vf);
   const KindReport ee = report("edge-edge  ", listed_ee, ee_true, got_ee);
   const StepStats& s = r.stats;
-  std::printf("  volume tests %llu, triangle-pair tests inside leaf pairs %llu (overlapping non-adjacent triangle pairs "
-              "%llu), feature box tests %llu, removed by the coplanarity filter: VF %llu, EE %llu\n",
-              (unsigned long long)s.volume_tests, (unsigned long long)s.triangle_tests,
-              (unsigned long long)s.leaf_pairs, (unsigned long long)s.feature_box_tests,
-              (unsigned long long)s.vf_filtered, (unsigned long long)s.ee_filtered);
+  const bool leaf_rule = resolved_representatives(scene.options()) == Representatives::Leaf;
+  if (leaf_rule)
+    std::printf("  volume tests %llu, leaf pairs meeting in some quarter %llu, feature-pair volume tests %llu, removed by "
+                "the coplanarity filter: VF %llu, EE %llu\n",
+                (unsigned long long)s.volume_tests, (unsigned long long)s.leaf_pairs,
+                (unsigned long long)s.feature_box_tests, (unsigned long long)s.vf_filtered,
+                (unsigned long long)s.ee_filtered);
+  else
+    std::printf("  volume tests %llu, triangle-pair tests inside leaf pairs %llu (overlapping non-adjacent triangle "
+                "pairs %llu), feature-pair volume tests %llu, removed by the coplanarity filter: VF %llu, EE %llu\n",
+                (unsigned long long)s.volume_tests, (unsigned long long)s.triangle_tests,
+                (unsigned long long)s.leaf_pairs, (unsigned long long)s.feature_box_tests,
+                (unsigned long long)s.vf_filtered, (unsigned long long)s.ee_filtered);
   std::printf("  elementary tests called: VF %llu, EE %llu (%.2f per true pair found); past their box and coplanarity "
               "filters: VF %llu, EE %llu\n",
               (unsigned long long)s.vf_tests, (unsigned long long)s.ee_tests,
               double(s.vf_tests + s.ee_tests) / double(std::max<std::size_t>(vf.found + ee.found, 1)),
               (unsigned long long)s.vf_ccd.root_tests, (unsigned long long)s.ee_ccd.root_tests);
-  std::printf("  orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); earliest toi %.9g\n",
-              scene.orphan_vf_count(), scene.orphan_ee_count(), (unsigned long long)s.orphan_vf_tested,
-              (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
+  if (leaf_rule)
+    std::printf("  representatives: leaf (every vertex and edge tested from the BVH leaf of its first triangle, no "
+                "orphan set); earliest toi %.9g\n",
+                r.earliest_toi);
+  else
+    std::printf("  representatives: canonical; orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); "
+                "earliest toi %.9g\n",
+                scene.orphan_vf_count(), scene.orphan_ee_count(), (unsigned long long)s.orphan_vf_tested,
+                (unsigned long long)s.orphan_ee_tested, r.earliest_toi);
   if (a.static_orphans) {
     const detail::StaticOrphanCounts so = detail::static_orphan_counts(scene.topology());
     std::printf("  (a static first-triangle assignment would leave %zu VF + %zu EE orphan pairs)\n", so.vf, so.ee);
   }
-  if (method == Method::Fbd)
-    std::printf("  front %llu nodes (%.1f MB); the orphan set keeps %llu adjacent leaf pairs out of it (%.1f%% shorter)\n",
-                (unsigned long long)s.front_size, s.front_bytes / 1e6, (unsigned long long)s.adjacent_leaf_pairs,
-                100.0 * double(s.adjacent_leaf_pairs) / double(std::max<std::uint64_t>(s.front_size + s.adjacent_leaf_pairs, 1)));
-  std::printf("  time %.3f s (update %.3f, refit %.3f, front %.3f, orphans %.3f)\n", s.t_total, s.t_update, s.t_refit,
-              s.t_front, s.t_orphans);
+  if (method == Method::Fbd) {
+    std::printf("  front %llu nodes (%.1f MB)", (unsigned long long)s.front_size, s.front_bytes / 1e6);
+    if (!leaf_rule)
+      std::printf("; the orphan set keeps %llu adjacent leaf pairs out of it (%.1f%% shorter)",
+                  (unsigned long long)s.adjacent_leaf_pairs,
+                  100.0 * double(s.adjacent_leaf_pairs) /
+                      double(std::max<std::uint64_t>(s.front_size + s.adjacent_leaf_pairs, 1)));
+    std::printf("\n");
+  }
+  std::printf("  time %.3f s (update %.3f, refit %.3f, front %.3f, %s %.3f)\n", s.t_total, s.t_update, s.t_refit,
+              s.t_front, leaf_rule ? "self" : "orphans", s.t_orphans);
   const std::size_t missed = vf.missed + ee.missed;
   std::printf("%s: %zu true pairs missed\n", missed ? "FAIL" : "OK", missed);
   return missed ? 1 : 0;
@@ -176,13 +197,15 @@ const cli::Command reg(
       cli::add_method_option(app, o->method);
       cli::add_min_distance_option(app, o->min_distance, "; at most 1% of the scene's bounding-box diagonal");
       cli::add_threads_option(app, o->threads);
-      cli::add_bvh_options(app, o->bvh, o->leaf_size);
+      cli::add_bvh_options(app, o->bvh, o->leaf_size, o->rule);
       app.add_flag("--static-orphans", o->static_orphans,
                    "also count the orphan pairs a static (first-triangle) representative rule would leave, for "
                    "comparison with the canonical rule (takes a while on large scenes)");
       app.footer("Prints, per kind, the listed and true pairs and how many were found, missed and reported "
-                 "beyond the list; the volume, feature-box and elementary test counts; the orphan set and front; "
-                 "and the step's time as 'time <seconds> s (update, refit, front, orphans)'.\n"
+                 "beyond the list; the volume, feature-pair and elementary test counts; the representative rule "
+                 "(with the canonical rule, its orphan set) and the front; and the step's time as 'time <seconds> s "
+                 "(update, refit, front, self or orphans)': self / orphans is the stage of the pairs no front node "
+                 "holds.\n"
                  "Exit status: 0 every true pair found, 1 any true pair missed, 2 usage or input error.");
       return [o] { return toi_check(*o); };
     });

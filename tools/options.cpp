@@ -63,7 +63,7 @@ CLI::Validator number_in(double lo, double hi, bool lo_open) {
       "");
 }
 
-void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size) {
+void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule) {
   app.add_option_function<std::string>(
          "--bvh", [&bvh](const std::string& v) { bvh = parse_bvh_build(v.c_str()); },
          "how the scene BVH is built: sah (binned surface area heuristic, default) or median (the paper's "
@@ -74,6 +74,13 @@ void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size) {
                  "triangles per BVH leaf, 1 to 16 (default: 8 with sah, 1 with median)")
       ->type_name("K")
       ->check(integer_in(1, 16));
+  app.add_option_function<std::string>(
+         "--representatives", [&rule](const std::string& v) { rule = parse_representatives(v.c_str()); },
+         "where each vertex-face and edge-edge pair is tested (the same contacts either way): leaf (every "
+         "vertex and edge belongs to the BVH leaf of its first triangle; the default with sah) or canonical "
+         "(the paper's first non-adjacent triangle pair, with its orphan set; the default with median)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"default", "leaf", "canonical"}));
 }
 
 CLI::Option* add_method_option(CLI::App& app, Method& method) {

@@ -30,8 +30,9 @@ CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 
 /// `--method NAME` (bruteforce, traverse, phc, fbd, or its alias front) into `method`.
 CLI::Option* add_method_option(CLI::App& app, Method& method);
-/// `--bvh median|sah` and `--leaf-size K` (1 to 16) into `bvh` and `leaf_size`.
-void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size);
+/// `--bvh median|sah`, `--leaf-size K` (1 to 16) and `--representatives default|leaf|canonical`
+/// into `bvh`, `leaf_size` and `rule`.
+void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule);
 /// `--threads N` (1 to kMaxThreads) into `threads`, which keeps its default (the machine's
 /// hardware concurrency) when absent.
 CLI::Option* add_threads_option(CLI::App& app, int& threads);

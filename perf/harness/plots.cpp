@@ -147,7 +147,9 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
     std::vector<std::string> rows;
     for (const SceneSummary& s : scenes)
       for (const VariantSummary& v : variants) {
-        if (v.scene != s.scene || v.threads != 1 || (v.method != Method::Traverse && v.method != Method::Fbd)) continue;
+        if (v.scene != s.scene || v.config != "default" || v.threads != 1 ||
+            (v.method != Method::Traverse && v.method != Method::Fbd))
+          continue;
         const double step = v.median_ms[kStep];
         std::string row = quoted(s.scene + " " + to_string(v.method));
         double rest = step;
@@ -158,8 +160,8 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
     p.script() << "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.85 border -1\n"
                << "set boxwidth 0.7\nset yrange [0:110]\nset xtics rotate by -30\n"
                << "plot $d using 2:xtic(1) title 'volume update', $d using 3 title 'refit', $d using 4 title "
-                  "'search + elementary tests', $d using 5 title 'orphan set', $d using 6 title 'contact join', $d using 7 "
-                  "title 'other'\n";
+                  "'search + elementary tests', $d using 5 title 'own pairs of leaves / orphan set', $d using 6 title "
+                  "'contact join', $d using 7 title 'other'\n";
     files.push_back(p.draw());
   }
   std::vector<std::string> volume, front, memory, elementary;
@@ -175,7 +177,7 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
                            "volume tests per step (millions, log scale)", volume, "traverse (from the root)",
                            "fbd (front tracking)"));
   files.push_back(two_bars(dir, "front_length.png",
-                           "Front length at a rebuild with and without the orphan set (paper fig. 9)" + on,
+                           "Front length at a rebuild with and without the orphan set, paper's setting (fig. 9)" + on,
                            "front nodes (thousands, log scale)", front, "without: front + adjacent leaf pairs",
                            "with the orphan set: front"));
   {  // figure 12: fbd / phc
@@ -189,7 +191,7 @@ std::vector<std::string> draw_plots(const std::string& dir, const std::string& m
       for (int t : s.threads) {
         double fbd = NAN, phc = NAN;
         for (const VariantSummary& v : variants) {
-          if (v.scene != s.scene || v.threads != t) continue;
+          if (v.scene != s.scene || v.config != "default" || v.threads != t) continue;
           if (v.method == Method::Fbd) fbd = v.median_ms[kStep];
           if (v.method == Method::Phc) phc = v.median_ms[kStep];
         }

@@ -75,14 +75,14 @@ std::string default_machine_name() {
 
 void write_runs_csv(const std::string& path, const std::vector<RunRecord>& runs) {
   std::ostringstream o;
-  o << "scene,method,threads,run,steps,intervals,wall_ms,ms_per_frame,first_step_ms,update_ms,refit_ms,search_ms,"
-       "orphans_ms,contacts_ms,engine_total_ms,volume_tests,feature_box_tests,vf_tests,ee_tests,vf_contacts,"
+  o << "scene,config,method,threads,run,steps,intervals,wall_ms,ms_per_frame,first_step_ms,update_ms,refit_ms,"
+       "search_ms,orphans_ms,contacts_ms,engine_total_ms,volume_tests,feature_box_tests,vf_tests,ee_tests,vf_contacts,"
        "ee_contacts,contacts,leaf_pairs,adjacent_leaf_pairs,sprouted,invalidated,rebuilds,rebuild_front,"
        "rebuild_adjacent,max_front_size,max_front_bytes\n";
   o.precision(9);
   for (const RunRecord& r : runs) {
     const StepStats& s = r.sum;
-    o << r.scene << ',' << to_string(r.method) << ',' << r.threads << ',' << r.run << ',' << r.steps << ','
+    o << r.scene << ',' << r.config << ',' << to_string(r.method) << ',' << r.threads << ',' << r.run << ',' << r.steps << ','
       << r.intervals << ',' << r.wall_ms << ',' << r.wall_ms / std::max(1, r.intervals) << ',' << r.first_step_ms;
     for (double t : {s.t_update, s.t_refit, s.t_front, s.t_orphans, s.t_contacts, s.t_total}) o << ',' << 1e3 * t;
     for (std::uint64_t c : {s.volume_tests, s.feature_box_tests, s.vf_tests, s.ee_tests, s.vf_contacts, s.ee_contacts,
@@ -103,7 +103,10 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
     << "Command: `" << m.command << "`\n\n"
     << "Each variant (scene x method x threads) first runs once as a warm-up whose contacts are compared, step by step,\n"
     << "with the serial result (traverse, 1 thread); then " << m.repeats << " timed runs from a fresh scene. Times are\n"
-    << "wall-clock ms per frame interval (all steps of a run over the frame intervals they cover): median [min-max].\n\n";
+    << "wall-clock ms per frame interval (all steps of a run over the frame intervals they cover): median [min-max].\n"
+    << "Every variant runs with the library's defaults (SAH tree, 8 triangles per leaf, the leaf representative rule);\n"
+    << "traverse and fbd also run once on 1 thread in the paper's configuration (its median tree, one triangle per\n"
+    << "leaf, the canonical rule with its orphan set), checked the same way, for figures 7 and 9.\n\n";
 
   o << "## Scenes\n\n| scene | triangles | steps | frame intervals | what |\n| --- | --- | --- | --- | --- |\n";
   for (const SceneSummary& s : scenes)
@@ -113,16 +116,18 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
     << "; speedup = ms at 1 thread / ms at the most threads swept; the model is Amdahl's law with the serial\n"
        "fraction s fitted to the measured thread counts (formula below).\n\n"
        "| scene | ms/frame, 1 thread | ms/frame, most threads | speedup | serial fraction | model, 16 threads | "
-       "volume tests/step: traverse -> fbd | fewer | front at rebuild: without -> with orphan set | shorter | "
-       "elementary tests per contact | front memory |\n"
-       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+       "volume tests/step: traverse -> fbd | fewer | paper's setting: fewer | paper's setting, front at rebuild: "
+       "without -> with orphan set | shorter | elementary tests per contact | front memory |\n"
+       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const SceneSummary& s : scenes) {
     if (s.ms.empty()) continue;
     const double without = s.front_nodes + s.front_adjacent;
     o << "| " << s.scene << " | " << num(s.ms.front()) << " | " << num(s.ms.back()) << " (" << s.threads.back()
       << ") | " << num(s.ms.front() / s.ms.back()) << "x | " << num(s.serial[kStep], 3) << " | "
       << num(s.amdahl16[kStep], 1) << "x | " << count(s.volume_tests_traverse) << " -> " << count(s.volume_tests_method)
-      << " | " << percent_fewer(s.volume_tests_traverse, s.volume_tests_method) << " | " << count(without) << " -> "
+      << " | " << percent_fewer(s.volume_tests_traverse, s.volume_tests_method) << " | "
+      << percent_fewer(s.paper_volume_traverse, s.paper_volume_fbd) << " (" << count(s.paper_volume_traverse) << " -> "
+      << count(s.paper_volume_fbd) << ") | " << count(without) << " -> "
       << count(s.front_nodes) << " | " << percent_fewer(without, s.front_nodes) << " | "
       << num(s.contacts > 0 ? s.elementary_tests / s.contacts : NAN, 1) << " (" << count(s.elementary_tests) << " / "
       << count(s.contacts) << ") | " << num(s.front_mb, 1) << " MB |\n";
@@ -132,9 +137,10 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
        "over traverse, 1 thread | fbd/phc time | volume tests/step | elementary tests/step | contacts/step |\n"
        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const VariantSummary& v : variants) {
+    if (v.config != "default") continue;
     double one = NAN, trav = NAN, phc = NAN, fbd = NAN;
     for (const VariantSummary& w : variants) {
-      if (w.scene != v.scene) continue;
+      if (w.scene != v.scene || w.config != "default") continue;
       if (w.method == v.method && w.threads == 1) one = w.median_ms[kStep];
       if (w.method == Method::Traverse && w.threads == 1) trav = w.median_ms[kStep];
       if (w.threads == v.threads && w.method == Method::Phc) phc = w.median_ms[kStep];
@@ -150,7 +156,8 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   }
 
   o << "\n## Stages\n\nms per frame of each stage (StepStats: update = volume update, refit, search = front tracking or\n"
-       "traversal with its leaf pairs and elementary tests, orphans = orphan set (concurrent with the search),\n"
+       "traversal with its leaf pairs and elementary tests, orphans = the pairs no front node holds (each leaf's own\n"
+       "pairs with the leaf rule, the orphan set with the canonical one; concurrent with the search),\n"
        "contacts = the join into the canonical order; step = the whole step, wall clock), its serial fraction\n"
        "and the speedup Amdahl's law gives it on 16 threads.\n\n| scene | method | stage |";
   std::vector<int> threads = scenes.empty() ? std::vector<int>{} : scenes.front().threads;
@@ -164,7 +171,7 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
       for (int t : threads) {
         double ms = NAN;
         for (const VariantSummary& v : variants)
-          if (v.scene == s.scene && v.method == s.method && v.threads == t) ms = v.median_ms[st];
+          if (v.scene == s.scene && v.config == "default" && v.method == s.method && v.threads == t) ms = v.median_ms[st];
         o << " " << num(ms, 3) << " |";
       }
       o << " " << num(s.serial[st], 3) << " | " << num(s.amdahl16[st], 1) << "x |\n";

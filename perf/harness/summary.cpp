@@ -18,9 +18,10 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-const VariantSummary* find(const std::vector<VariantSummary>& vs, const std::string& scene, Method m, int threads) {
+const VariantSummary* find(const std::vector<VariantSummary>& vs, const std::string& scene, Method m, int threads,
+                           const std::string& config = "default") {
   for (const VariantSummary& v : vs)
-    if (v.scene == scene && v.method == m && v.threads == threads) return &v;
+    if (v.scene == scene && v.config == config && v.method == m && v.threads == threads) return &v;
   return nullptr;
 }
 }  // namespace
@@ -54,19 +55,19 @@ double amdahl_speedup(double s, int threads) { return 1.0 / (s + (1 - s) / threa
 
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs) {
   std::vector<VariantSummary> out;
-  std::map<std::tuple<std::string, int, int>, std::vector<const RunRecord*>> timed;
+  std::map<std::tuple<std::string, std::string, int, int>, std::vector<const RunRecord*>> timed;
   for (const RunRecord& r : runs) {
-    const auto key = std::make_tuple(r.scene, int(r.method), r.threads);
+    const auto key = std::make_tuple(r.scene, r.config, int(r.method), r.threads);
     if (!timed.count(key)) {
       VariantSummary v;
-      v.scene = r.scene, v.method = r.method, v.threads = r.threads, v.counts = r;
+      v.scene = r.scene, v.config = r.config, v.method = r.method, v.threads = r.threads, v.counts = r;
       out.push_back(v);
       timed[key];
     }
     if (r.run > 0) timed[key].push_back(&r);
   }
   for (VariantSummary& v : out) {
-    const auto& rs = timed[std::make_tuple(v.scene, int(v.method), v.threads)];
+    const auto& rs = timed[std::make_tuple(v.scene, v.config, int(v.method), v.threads)];
     v.runs = int(rs.size());
     for (int s = 0; s < kStageCount; ++s) {
       std::vector<double> ms;
@@ -87,7 +88,7 @@ SceneSummary summarize_scene(const Workload& w, const std::vector<VariantSummary
   s.steps = int(w.steps()), s.intervals = w.intervals;
   std::vector<const VariantSummary*> mine;
   for (const VariantSummary& v : variants)
-    if (v.scene == w.name) mine.push_back(&v);
+    if (v.scene == w.name && v.config == "default") mine.push_back(&v);
   if (mine.empty()) return s;
   s.method = mine.front()->method;
   for (const VariantSummary* v : mine)
@@ -110,8 +111,13 @@ SceneSummary summarize_scene(const Workload& w, const std::vector<VariantSummary
   s.volume_tests_method = c.sum.volume_tests / steps;
   s.volume_tests_traverse = trav ? trav->counts.sum.volume_tests / steps : kNaN;
   s.phc_ms_1 = phc ? phc->median_ms[kStep] : kNaN;
-  s.front_nodes = c.rebuilds ? double(c.rebuild_front) / c.rebuilds : kNaN;
-  s.front_adjacent = c.rebuilds ? double(c.rebuild_adjacent) / c.rebuilds : kNaN;
+  const VariantSummary* paper_fbd = find(variants, w.name, Method::Fbd, 1, "paper");
+  const VariantSummary* paper_trav = find(variants, w.name, Method::Traverse, 1, "paper");
+  s.paper_volume_fbd = paper_fbd ? paper_fbd->counts.sum.volume_tests / steps : kNaN;
+  s.paper_volume_traverse = paper_trav ? paper_trav->counts.sum.volume_tests / steps : kNaN;
+  const RunRecord* p = paper_fbd ? &paper_fbd->counts : nullptr;
+  s.front_nodes = p && p->rebuilds ? double(p->rebuild_front) / p->rebuilds : kNaN;
+  s.front_adjacent = p && p->rebuilds ? double(p->rebuild_adjacent) / p->rebuilds : kNaN;
   s.front_mb = 1e-6 * double(c.max_front_bytes);
   s.elementary_tests = (c.sum.vf_tests + c.sum.ee_tests) / steps;
   s.contacts = (c.sum.vf_contacts + c.sum.ee_contacts) / steps;

@@ -23,7 +23,7 @@ const char* stage_name(int stage);   ///< "update", "refit", "search", "orphans"
 double stage_ms(const RunRecord& r, int stage);
 
 struct VariantSummary {
-  std::string scene;
+  std::string scene, config = "default";
   Method method = Method::Fbd;
   int threads = 1, runs = 0;
   std::array<double, kStageCount> median_ms{}; ///< per frame interval, median over timed runs
@@ -37,7 +37,7 @@ double serial_fraction(const std::vector<std::pair<int, double>>& points);
 /// 1 / (s + (1 - s) / threads).
 double amdahl_speedup(double s, int threads);
 
-/// Groups runs by (scene, method, threads), in the order they first appear.
+/// Groups runs by (scene, configuration, method, threads), in the order they first appear.
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs);
 
 /// One scene's figures (the fbd method, or the first method swept when fbd was not).
@@ -52,7 +52,11 @@ struct SceneSummary {
   std::array<double, kStageCount> amdahl16{};
   double volume_tests_traverse = 0, volume_tests_method = 0;  ///< per step; NaN when not swept
   double phc_ms_1 = 0;                      ///< phc median at 1 thread, NaN when not swept
-  double front_nodes = 0, front_adjacent = 0;  ///< per rebuild (front with / saved by orphans)
+  /// In the paper's configuration (RunRecord::config), NaN when not run: volume tests per step
+  /// of traverse and fbd, and per rebuild the front and the adjacent leaf pairs its orphan set
+  /// kept out of it.
+  double paper_volume_traverse = 0, paper_volume_fbd = 0;
+  double front_nodes = 0, front_adjacent = 0;
   double front_mb = 0;                      ///< largest front, MB (10^6 bytes)
   double elementary_tests = 0, contacts = 0;   ///< per step
 };

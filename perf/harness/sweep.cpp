@@ -16,9 +16,9 @@ using Contacts = std::vector<std::vector<Contact>>;
 
 // One run from a fresh scene. With `keep`, the contacts of every step are stored; with
 // `check`, they are compared with it.
-RunRecord run_once(const Workload& w, Method method, int threads, Contacts* keep, const Contacts* check) {
+RunRecord run_once(const Workload& w, Method method, int threads, Contacts* keep, const Contacts* check,
+                   SceneOptions opt = {}) {
   tbb::task_arena arena(threads);
-  SceneOptions opt;
   opt.arena = &arena;
   opt.method = method;
   TriMesh mesh = w.mesh;
@@ -81,6 +81,23 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
     for (int threads : options.threads) record(m, threads, 0);
     for (int run = 1; run <= options.repeats; ++run)
       for (int threads : options.threads) record(m, threads, run);
+  }
+  if (options.paper_runs) {
+    SceneOptions paper;
+    paper.bvh = BvhBuild::Median;
+    paper.leaf_size = 1;
+    paper.representatives = Representatives::Canonical;
+    for (Method m : {Method::Traverse, Method::Fbd}) {
+      RunRecord rec = run_once(w, m, 1, nullptr, &reference, paper);
+      rec.config = "paper";
+      if (options.progress) {
+        char line[200];
+        std::snprintf(line, sizeof line, "%-20s %-8s %2d thread   %-17s %9.2f ms per frame", w.name.c_str(),
+                      to_string(m), 1, "paper's setting", rec.wall_ms / rec.intervals);
+        options.progress(line);
+      }
+      out.push_back(std::move(rec));
+    }
   }
   return out;
 }

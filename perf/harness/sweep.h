@@ -18,6 +18,9 @@ namespace mccd::bench {
 /// One run of a workload from a fresh scene: its statistics added over all its steps.
 struct RunRecord {
   std::string scene;
+  /// "default" (the library's defaults), or "paper": the paper's configuration (its median BVH,
+  /// one triangle per leaf, the canonical rule with its orphan set), run for figures 7 and 9.
+  std::string config = "default";
   Method method = Method::Fbd;
   int threads = 1;
   int run = 0;  ///< 0: the warm-up (which checked the contacts); 1..repeats: timed
@@ -36,6 +39,10 @@ struct SweepOptions {
   std::vector<Method> methods{Method::Traverse, Method::Phc, Method::Fbd};
   std::vector<int> threads{1, 2};
   int repeats = 3;                                     ///< timed runs per variant
+  /// Also runs traverse and fbd once each on 1 thread in the paper's configuration (checked
+  /// against the reference like every warm-up): the volume tests its front saves and the
+  /// front length its orphan set saves (figures 7 and 9).
+  bool paper_runs = true;
   std::function<void(const std::string&)> progress;    ///< one line per run, may be empty
 };
 

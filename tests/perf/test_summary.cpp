@@ -51,8 +51,16 @@ TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
       runs.push_back(run("s", m, t, 0, 1000));  // the warm-up never counts in the times
       for (int k = 1; k <= 3; ++k) runs.push_back(run("s", m, t, k, base * (1 + 0.1 * (k - 2))));
     }
+  // the paper's configuration: one counted run each of traverse and fbd on 1 thread
+  for (Method m : {Method::Traverse, Method::Fbd}) {
+    RunRecord p = run("s", m, 1, 0, 50);
+    p.config = "paper";
+    p.sum.volume_tests = m == Method::Traverse ? 8000 : 4000;
+    p.rebuild_front = 3000, p.rebuild_adjacent = 1000;
+    runs.push_back(p);
+  }
   const std::vector<VariantSummary> v = summarize(runs);
-  ASSERT_EQ(v.size(), 6u);
+  ASSERT_EQ(v.size(), 8u);
   const VariantSummary& fbd1 = v[4];
   EXPECT_EQ(fbd1.method, Method::Fbd);
   EXPECT_EQ(fbd1.runs, 3);
@@ -72,8 +80,11 @@ TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
   EXPECT_NEAR(s.serial[kStep], 2 / 1.6 - 1, 1e-9);
   EXPECT_NEAR(s.volume_tests_traverse, 1000, 1e-9);
   EXPECT_NEAR(s.volume_tests_method, 600, 1e-9);
-  EXPECT_NEAR(s.front_nodes, 800, 1e-9);
-  EXPECT_NEAR(s.front_adjacent, 200, 1e-9);
+  // figures 7 and 9 in the paper's configuration, from the paper runs only
+  EXPECT_NEAR(s.paper_volume_traverse, 2000, 1e-9);
+  EXPECT_NEAR(s.paper_volume_fbd, 1000, 1e-9);
+  EXPECT_NEAR(s.front_nodes, 1500, 1e-9);
+  EXPECT_NEAR(s.front_adjacent, 500, 1e-9);
   EXPECT_NEAR(s.front_mb, 3.0, 1e-12);
   EXPECT_NEAR(s.elementary_tests / s.contacts, 20.0, 1e-9);
   EXPECT_NEAR(s.phc_ms_1, 20.0, 1e-9);
