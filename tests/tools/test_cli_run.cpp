@@ -216,6 +216,31 @@ TEST(CliRun, MethodsPrintTheSameContactTotals) {
   for (int k = 1; k < 4; ++k) EXPECT_EQ(totals[0], totals[k]);
 }
 
+TEST(CliRun, TreesAndRepresentativeRulesPrintTheSameContactTotals) {
+  std::string first;
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{}, {"--representatives", "canonical"}, {"--bvh", "median"},
+        {"--bvh", "median", "--representatives", "leaf", "--leaf-size", "3"}, {"--leaf-size", "16"}}) {
+    std::vector<std::string> args{"run", "--scene", "spheres", "--size", "1", "--frames", "9", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    ASSERT_EQ(r.status, 1) << r.err;
+    const auto at = r.out.find("with contacts: ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const std::string totals = r.out.substr(at, r.out.find('\n', at) - at);
+    if (first.empty()) first = totals;
+    EXPECT_EQ(totals, first);
+  }
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--representatives", "paper"},
+                                               {"--leaf-size", "17"}, {"--leaf-size", "0"}}) {
+    std::vector<std::string> args{"run", "--scene", "spheres", "--size", "1", "--frames", "3"};
+    args.insert(args.end(), bad.begin(), bad.end());
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.status, 2) << bad[0] << " " << bad[1];
+    EXPECT_NE(r.err.find(bad[0]), std::string::npos) << r.err;
+  }
+}
+
 // A frame that cannot be read ends the run with status 2, but every step before it is in the
 // files, which say they are incomplete; with --partial remove nothing is written.
 TEST(CliRun, FailureAtTheLastFrameKeepsTheEarlierSteps) {
@@ -341,6 +366,16 @@ TEST(CliToiCheck, ClothBallFrontMissesNothing) {
   EXPECT_NE(r.out.find("found 94822, missed 0"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("front "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" MB)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("representatives: leaf"), std::string::npos) << r.out;
+}
+
+TEST(CliToiCheck, ClothFunnelPapersSettingReportsItsOrphanSet) {
+  const fs::path dir = data_dir() / "toi/cloth-funnel";
+  MCCD_REQUIRE_DATA(dir);
+  const auto r = run_cli({"toi-check", dir.string(), "--bvh", "median"});
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("representatives: canonical; orphan set 430 VF + 1626 EE pairs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("OK: 0 true pairs missed"), std::string::npos) << r.out;
 }
 
 // Issue 12, item 5: a folder without the data layout is refused naming the path, never with
