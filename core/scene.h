@@ -90,6 +90,7 @@ class Scene {
   std::size_t vertex_offset(std::size_t mesh) const;
   std::size_t face_offset(std::size_t mesh) const;
   std::size_t edge_offset(std::size_t mesh) const;
+  /// The orphan set of the canonical rule (0 under the leaf rule, which has none).
   std::size_t orphan_vf_count() const;
   std::size_t orphan_ee_count() const;
   std::size_t bvh_depth() const;

@@ -28,10 +28,12 @@ struct StepStats {
   CcdCounters vf_ccd, ee_ccd;
   std::uint64_t vf_contacts = 0;
   std::uint64_t ee_contacts = 0;
-  std::uint64_t leaf_pairs = 0;         ///< non-adjacent triangle pairs whose volumes overlapped
-  /// Leaf pairs the traversal reached and skipped because every triangle pair in them is
-  /// adjacent (their features are the orphan set's); without the orphan set they would be
-  /// front nodes (paper equation 5, B_a).
+  /// Leaf rule: BVH leaf pairs that met in some quarter of the step; canonical rule:
+  /// non-adjacent triangle pairs whose volumes overlapped.
+  std::uint64_t leaf_pairs = 0;
+  /// Canonical rule: leaf pairs the traversal reached and skipped because every triangle pair
+  /// in them is adjacent (their features are the orphan set's); without the orphan set they
+  /// would be front nodes (paper equation 5, B_a). 0 under the leaf rule.
   std::uint64_t adjacent_leaf_pairs = 0;
   std::uint64_t sprouted = 0;           ///< front nodes inserted by sprouting this step (S)
   std::uint64_t invalidated = 0;        ///< front nodes that overlapped and were expanded (B)
@@ -41,8 +43,10 @@ struct StepStats {
   std::uint64_t front_size = 0;         ///< front nodes after the step (fbd only)
   std::uint64_t front_bytes = 0;        ///< bytes held by the front buffers (fbd only)
   /// Stage times: volume update, refit, candidate search with leaf pairs and elementary tests
-  /// (front tracking, traversal or brute force), orphan tests (concurrent with the search), the
-  /// join of contacts into the canonical order, and the whole step.
+  /// (front tracking, traversal or brute force), the self stage (t_orphans: the pairs no front
+  /// node holds, concurrent with the search: each leaf's own pairs under the leaf rule, the
+  /// orphan set and the pairs inside leaves under the canonical rule), the join of contacts into
+  /// the canonical order, and the whole step.
   double t_update = 0, t_refit = 0, t_front = 0, t_orphans = 0, t_contacts = 0, t_total = 0;
 
   /// Adds every count and time of `o` (the method is kept).

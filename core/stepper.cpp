@@ -51,7 +51,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) { return swept_.face_quarters(topo.faces()[f]); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
-                                                         [this] { search(); }, [this] { orphans(); },
+                                                         [this] { search(); }, [this] { self_pairs(); },
                                                          [this] { join(); }});
 }
 
@@ -69,7 +69,7 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
     update();
     refit();
     search();
-    orphans();
+    self_pairs();
     join();
   }
   return std::move(result_);
@@ -161,7 +161,7 @@ void Stepper<BV>::search_fbd_query() {
 }
 
 template <BoundingVolume BV>
-void Stepper<BV>::orphans() {
+void Stepper<BV>::self_pairs() {
   if (method_ == Method::BruteForce) return;  // brute force already covers every pair
   const auto t = Clock::now();
   // Fixed blocks of self units, each with its own output, joined in block order.

@@ -61,7 +61,7 @@ class Stepper {
   void update();
   void refit();
   void search();
-  void orphans();
+  void self_pairs();
   void join();
   void search_fbd();
   void search_fbd_query();

@@ -14,18 +14,18 @@ struct StepGraph::Impl {
         update(g, [this](const flow::continue_msg&) { stages.update(); }),
         refit(g, [this](const flow::continue_msg&) { stages.refit(); }),
         search(g, [this](const flow::continue_msg&) { stages.search(); }),
-        orphans(g, [this](const flow::continue_msg&) { stages.orphans(); }),
+        self(g, [this](const flow::continue_msg&) { stages.self(); }),
         join(g, [this](const flow::continue_msg&) { stages.join(); }) {
     flow::make_edge(update, refit);
     flow::make_edge(refit, search);
-    flow::make_edge(refit, orphans);
+    flow::make_edge(refit, self);
     flow::make_edge(search, join);  // join waits for both
-    flow::make_edge(orphans, join);
+    flow::make_edge(self, join);
   }
 
   Stages stages;
   flow::graph g;
-  Stage update, refit, search, orphans, join;
+  Stage update, refit, search, self, join;
 };
 
 StepGraph::StepGraph(Stages stages) : impl_(std::make_unique<Impl>(std::move(stages))) {}

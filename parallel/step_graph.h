@@ -2,13 +2,15 @@
 /// @file Internal: the oneTBB flow graph of one step, built once per scene and reused by every
 /// step:
 ///
-///   update -> refit -> search ----> join
-///                   \-> orphans --/
+///   update -> refit -> search -> join
+///                   \-> self ---/
 ///
 /// update: positions to swept volumes; refit: the BVH's node volumes; search: the candidate
 /// pairs of the method (front tracking, traversal, PHC or brute force) with their leaf pairs
-/// and elementary tests; orphans: the orphan set's tests, which need only the new volumes, so
-/// they run beside the search; join: the contacts into the canonical order. Each node calls the
+/// and elementary tests; self: the pairs no BVTT pair node holds (each leaf's own pairs under
+/// the leaf rule; the orphan set and the pairs inside leaves under the canonical rule), which
+/// need only the new volumes, so they run beside the search; join: the contacts into the
+/// canonical order. Each node calls the
 /// stage of its name; stages are parallel inside. The graph runs in the arena of the thread
 /// that calls run() (a task_arena's execute() included), re-attached at every run.
 #include <functional>
@@ -19,7 +21,7 @@ namespace mccd::detail {
 class StepGraph {
  public:
   struct Stages {
-    std::function<void()> update, refit, search, orphans, join;
+    std::function<void()> update, refit, search, self, join;
   };
   explicit StepGraph(Stages stages);
   ~StepGraph();
