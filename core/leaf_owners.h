@@ -98,16 +98,9 @@ class OwnedPairs {
   /// The pairs inside one leaf: its owned vertices against its faces, its owned edges against
   /// each other.
   void process_self(std::uint32_t leaf, WorkerOutput& out) const {
-    const std::uint32_t* faces = bvh_.leaf_triangles(leaf);
-    const std::uint32_t nf = bvh_.leaf_count(leaf);
+    if (tests_.query().stopped()) return;
+    vertices_against(leaf, leaf, nodes_[leaf], 0xF, out);
     const SweptVolumes<BV>& swept = tests_.swept();
-    for (std::uint32_t s = owners_.vertex_begin(leaf); s != owners_.vertex_begin(leaf + 1); ++s) {
-      const std::uint32_t v = owners_.vertex(s);
-      for (std::uint32_t k = 0; k < nf; ++k) {
-        const Triangle& t = owners_.face_corners(bvh_.leaf_first(leaf) + k);
-        if (t[0] != v && t[1] != v && t[2] != v) tests_.test_vf(v, faces[k], out);
-      }
-    }
     const std::uint32_t end = owners_.edge_begin(leaf + 1);
     for (std::uint32_t sa = owners_.edge_begin(leaf); sa != end; ++sa) {
       const std::uint32_t a = owners_.edge(sa);
