@@ -109,32 +109,34 @@ class FeatureTests {
       ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
       return;
     }
-    if (!wanted(std::countr_zero(quarters), a, b, kind, out)) return;
+    const RawContact pair{RawContact::make_key(kind, a, b), 0.25 * std::countr_zero(quarters), {ids[0], ids[1], ids[2], ids[3]}};
+    if (!wanted(pair, out)) return;
     ++(vf ? out.stats.vf_tests : out.stats.ee_tests);
     double toi = 0;
-    if (narrow_.test(q, ccd, toi, out.stats)) hit({a, b, kind, toi}, out);
+    if (narrow_.test(q, ccd, toi, out.stats)) hit(pair, toi, out);
   }
 
-  /// Whether a pair that passed its volume tests goes to the narrow phase. Earliest queries
-  /// skip pairs that cannot meet before the best time found so far; candidate queries collect
-  /// the pair instead, with the start of its first meeting quarter as the time.
-  bool wanted(int quarter, std::uint32_t a, std::uint32_t b, ContactKind kind, WorkerOutput& out) const {
+  /// Whether a pair that passed its volume tests goes to the narrow phase (`pair.toi`: the
+  /// start of its first meeting quarter). Earliest queries skip pairs that cannot meet before
+  /// the best time found so far; candidate queries collect the pair instead, with that time.
+  bool wanted(const RawContact& pair, WorkerOutput& out) const {
     switch (query_.kind()) {
       case StepKind::Full:
       case StepKind::FirstContact:
         return true;
       case StepKind::Earliest:
-        return 0.25 * quarter < query_.best();
+        return pair.toi < query_.best();
       case StepKind::Candidates:
-        out.contacts.push_back({a, b, kind, 0.25 * quarter});
+        out.contacts.push_back(pair);
         return false;
     }
     return true;
   }
 
-  void hit(const RawContact& c, WorkerOutput& out) const {
+  void hit(RawContact c, double toi, WorkerOutput& out) const {
+    c.toi = toi;
     out.contacts.push_back(c);
-    if (query_.kind() != StepKind::Full) query_.found(c.toi);
+    if (query_.kind() != StepKind::Full) query_.found(toi);
   }
 
   void load(const std::array<std::uint32_t, 4>& ids, CcdPoints& p) const {

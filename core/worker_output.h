@@ -18,12 +18,21 @@ struct NodePair {
 };
 static_assert(sizeof(NodePair) == 8);
 
-/// A contact as found, with global ids (VF: vertex, face; EE: edge a < edge b).
+/// A contact as found: its key (kind, then global ids a and b: VF vertex and face, EE edge
+/// a < edge b), which orders contacts canonically (global ids number the meshes in order), its
+/// time and the four vertices of its elementary test (global ids; EE: a's ends, then b's).
 struct RawContact {
-  std::uint32_t a, b;
-  ContactKind kind;
-  double toi;
+  std::uint64_t key;          ///< 8 bytes: kind << 63 | a << 32 | b (ids below 2^31)
+  double toi;                 ///< 8 bytes
+  std::uint32_t vertices[4];  ///< 16 bytes
+  static std::uint64_t make_key(ContactKind kind, std::uint32_t a, std::uint32_t b) {
+    return std::uint64_t(kind == ContactKind::EdgeEdge) << 63 | std::uint64_t(a) << 32 | b;
+  }
+  ContactKind kind() const { return key >> 63 ? ContactKind::EdgeEdge : ContactKind::VertexFace; }
+  std::uint32_t a() const { return static_cast<std::uint32_t>(key >> 32) & 0x7fffffffu; }
+  std::uint32_t b() const { return static_cast<std::uint32_t>(key); }
 };
+static_assert(sizeof(RawContact) == 32);
 
 struct WorkerOutput {
   std::vector<NodePair> front;       ///< the front nodes this unit keeps or sprouts
