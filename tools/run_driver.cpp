@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <mccd/core/scene.h>
 #include <mccd/geometry/error.h>
@@ -131,7 +133,28 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   tbb::task_arena arena(st.threads);
   SceneOptions so = st.scene;
   so.arena = &arena;
+  // Frame 1 is read while the scene is built (its parallel set-up has the other threads); an
+  // error reading it is reported where the pipeline would have met it.
+  std::optional<std::vector<Positions>> frame1;
+  std::string frame1_error;
+  tbb::task_group prefetch;
+  if (input.frames > 1)
+    arena.execute([&] {
+      prefetch.run([&] {
+        try {
+          frame1 = input.frame(1);
+        } catch (const std::exception& e) {
+          frame1_error = e.what();
+        }
+      });
+    });
+  struct Join {  // waits for the read however this scope is left
+    tbb::task_arena& arena;
+    tbb::task_group& group;
+    ~Join() { arena.execute([&] { group.wait(); }); }
+  } join_prefetch{arena, prefetch};
   Scene scene(input.meshes, so);  // validates the meshes and the options before any file exists
+  arena.execute([&] { prefetch.wait(); });
   std::size_t nv = 0, nf = 0;
   for (const TriMesh& m : input.meshes) nv += m.num_vertices(), nf += m.num_faces();
   std::printf("%s: %zu frames, %s vertices, %s triangles%s; method %s, %d thread%s", input.description.c_str(),
@@ -175,7 +198,8 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   const FrameSource source = [&](std::vector<Positions>& frame) {
     if (next >= input.frames) return false;
     try {
-      frame = input.frame(next);
+      if (next == 1 && !frame1_error.empty()) throw Error(frame1_error);
+      frame = next == 1 && frame1 ? std::move(*frame1) : input.frame(next);
     } catch (const std::exception& e) {
       source_error = e.what();
       return false;
