@@ -15,6 +15,10 @@
 
 namespace mccd::detail {
 
+/// Subtasks PHC splits the BVTT's top into (at least): enough that the heaviest subtree pair
+/// does not decide the time on 16 threads (256 left the real cloth-ball step at 5x there).
+inline constexpr std::size_t kPhcTasks = 4096;
+
 /// Serial depth-first traversal from the root into `out` (the `traverse` method; with
 /// `record`, a serial front build).
 template <bool record, class Bvtt>
@@ -30,7 +34,7 @@ void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contact
 /// number of tasks + 1.
 template <bool record, class Bvtt>
 void traverse_phc(const Bvtt& bvtt, std::vector<WorkerOutput>& outs, ContactBuffer& contacts,
-                  std::size_t min_tasks = 256) {
+                  std::size_t min_tasks = kPhcTasks) {
   if (outs.empty()) outs.resize(1);
   outs[0].clear();
   if (bvtt.bvh().size() == 0) {
