@@ -6,6 +6,7 @@
 /// parallel. The split depends only on the geometry, never on the thread count, and every node
 /// is visited exactly as in a serial traversal: the same tests, stops and contacts. PHC redoes
 /// this from the root every step; FBD (parallel/front_tracking.h) does it once per rebuild.
+#include <algorithm>
 #include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -15,9 +16,12 @@
 
 namespace mccd::detail {
 
-/// Subtasks PHC splits the BVTT's top into (at least): enough that the heaviest subtree pair
-/// does not decide the time on 16 threads (256 left the real cloth-ball step at 5x there).
-inline constexpr std::size_t kPhcTasks = 4096;
+/// Subtasks PHC splits the BVTT's top into (at least), from the BVH's size (never from the
+/// thread count): a quarter of its nodes, from 256 to 4096. Enough that the heaviest subtree
+/// pair does not decide the time on 16 threads (256 left the real cloth-ball step at 7x
+/// there; 4096 gives 8x in half the time), few enough that small scenes' tasks stay worth a
+/// task.
+inline std::size_t phc_tasks(std::size_t bvh_nodes) { return std::clamp<std::size_t>(bvh_nodes / 4, 256, 4096); }
 
 /// Serial depth-first traversal from the root into `out` (the `traverse` method; with
 /// `record`, a serial front build).
@@ -34,7 +38,8 @@ void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contact
 /// number of tasks + 1.
 template <bool record, class Bvtt>
 void traverse_phc(const Bvtt& bvtt, std::vector<WorkerOutput>& outs, ContactBuffer& contacts,
-                  std::size_t min_tasks = kPhcTasks) {
+                  std::size_t min_tasks = 0) {
+  if (min_tasks == 0) min_tasks = phc_tasks(bvtt.bvh().size());
   if (outs.empty()) outs.resize(1);
   outs[0].clear();
   if (bvtt.bvh().size() == 0) {
