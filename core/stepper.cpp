@@ -63,7 +63,7 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
   result_.stats.method = method;
   contacts_.clear();
   self_stats_ = {};
-  if (options_.flow_graph) {
+  if (options_.flow_graph && scene_.topology().num_faces() >= kGraphMinFaces) {
     graph_->run();
   } else {
     update();
@@ -175,9 +175,9 @@ void Stepper<BV>::self_pairs() {
     leaf_.process_self(b * kBlock, std::min(units, (b + 1) * kBlock), o);
     flush(o, contacts_);
   };
-  if (n == 1)
-    run(0);
-  else if (n > 1)
+  if (n <= kSerialBlocks)
+    for (std::size_t b = 0; b < n; ++b) run(b);  // as in front tracking: not worth a thread
+  else
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t b = r.begin(); b != r.end(); ++b) run(b);
     });

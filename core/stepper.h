@@ -56,6 +56,8 @@ class Stepper {
   using Tests = FeatureTests<BV>;
   using Leaf = LeafPairs<BV>;
   using NodeVolume = QuarterVolume<BV>;
+  /// Smaller scenes call the stages in sequence (SceneOptions::flow_graph).
+  static constexpr std::size_t kGraphMinFaces = 8192;
   using Clock = std::chrono::steady_clock;
 
   void update();

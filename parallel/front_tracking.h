@@ -20,6 +20,9 @@ namespace mccd::detail {
 /// Front nodes per block: enough work to amortise a task (a block of a disjoint front costs
 /// ~40 us), small enough that sprouting blocks balance across threads.
 inline constexpr std::size_t kFrontBlock = 2048;
+/// Fronts of at most this many blocks are tracked on the calling thread (block by block, as
+/// in parallel): a parallel loop costs more in waking threads than it saves there.
+inline constexpr std::size_t kSerialBlocks = 4;
 
 /// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
 /// by the caller from those outputs (BvttFront::advance). `readonly` (the simulator queries):
@@ -40,9 +43,9 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<Wo
       bvtt.track(nodes.data() + lo, nodes.data() + hi, o);
     flush(o, contacts);
   };
-  if (n == 1) {
-    run(0);
-  } else if (n > 1) {
+  if (n <= kSerialBlocks) {
+    for (std::size_t b = 0; b < n; ++b) run(b);  // the same blocks, without waking a thread
+  } else {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, n, 1),
         [&](const tbb::blocked_range<std::size_t>& r) {
