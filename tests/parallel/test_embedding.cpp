@@ -60,8 +60,9 @@ TEST(Embedding, RunsInTheGivenArenaWithoutChangingTheProcessLimit) {
 
 TEST(Embedding, StepsInsideTheHostsParallelFor) {
   // Eight independent scenes stepped from the host's parallel_for: each step's own parallel
-  // stages nest inside the host's tasks.
-  const AnimatedScene s = make_deforming_spheres(3, 8, 6);
+  // stages (and its flow graph: above 8,192 triangles) nest inside the host's tasks.
+  const AnimatedScene s = make_deforming_spheres(3, 30, 4);
+  ASSERT_GE(s.num_triangles(), 8192u);
   const auto expected = reference(s);
   std::vector<std::unique_ptr<Scene>> scenes;
   for (int i = 0; i < 8; ++i) scenes.push_back(std::make_unique<Scene>(s.meshes));
@@ -73,7 +74,8 @@ TEST(Embedding, StepsInsideTheHostsParallelFor) {
 }
 
 TEST(Embedding, StepsInsideAFlowGraphNode) {
-  const AnimatedScene s = make_folding_cloth(25, 8);
+  const AnimatedScene s = make_folding_cloth(70, 6);  // the step's own graph inside the host's
+  ASSERT_GE(s.num_triangles(), 8192u);
   const auto expected = reference(s);
   Scene sc(s.meshes);
   std::vector<std::vector<Contact>> got;
@@ -89,7 +91,8 @@ TEST(Embedding, StepsInsideAFlowGraphNode) {
 }
 
 TEST(Embedding, TwoScenesSteppedConcurrentlyFromTwoThreads) {
-  const AnimatedScene s = make_twisting_tube(30, 12, 11);
+  const AnimatedScene s = make_twisting_tube(100, 45, 5);  // two step graphs at once
+  ASSERT_GE(s.num_triangles(), 8192u);
   const auto expected = reference(s);
   Scene a(s.meshes), b(s.meshes);
   std::vector<std::vector<Contact>> ga, gb;
@@ -139,7 +142,8 @@ TEST(Embedding, ConcurrentStepOfOneSceneIsRefused) {
 TEST(Embedding, IsolatedStepInsideTaskGroupOfTheHost) {
   // The host waits on its own task_group while steps run in its tasks: no deadlock, right
   // results (the step isolates its own waits from the host's outer tasks).
-  const AnimatedScene s = make_deforming_spheres(2, 8, 5);
+  const AnimatedScene s = make_deforming_spheres(2, 40, 4);
+  ASSERT_GE(s.num_triangles(), 8192u);
   const auto expected = reference(s);
   std::vector<std::unique_ptr<Scene>> scenes;
   for (int i = 0; i < 4; ++i) scenes.push_back(std::make_unique<Scene>(s.meshes));
