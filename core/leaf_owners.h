@@ -9,10 +9,11 @@
 /// nodes, and each leaf's own pairs are tested every step (Stepper's self stage).
 ///
 /// At a leaf pair (A, B) that meets in some quarters of the step (the BVTT's test of their
-/// quarter volumes): each feature A owns against B's quarter volumes in those quarters, then
-/// each surviving
-/// vertex against B's faces and each surviving edge against B's surviving edges, through
-/// the common feature test (core/feature_tests.h) restricted to the quarters both survived in.
+/// quarter volumes): each feature A owns against B's quarter volumes in those quarters, and
+/// likewise B's against A's; then each surviving vertex against the other leaf's faces and each
+/// surviving edge against the other leaf's surviving edges, through the common feature test
+/// (core/feature_tests.h) restricted to the quarters both survived in. The features' volumes are
+/// stored in leaf order (layout()), so a leaf pair reads a few contiguous runs.
 #include <cstdint>
 #include <vector>
 
