@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstring>
 
+#include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <mccd/core/scene_topology.h>
@@ -56,21 +57,31 @@ struct Scene::Impl {
       if (meshes[m].name.empty()) meshes[m].name = "mesh " + std::to_string(m);
       validate_mesh(meshes[m]);
     }
-    topo = std::make_unique<detail::SceneTopology>(meshes, options.meshes, resolved_representatives(options));
-    last_end.resize(topo->topology().num_vertices());
+    const detail::SceneFaces faces = detail::scene_faces(meshes);
+    last_end.resize(faces.vertex_offsets.back());
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),
-                last_end.xyz().begin() + static_cast<std::ptrdiff_t>(3 * topo->vertex_offset(m)));
-    // The stepper's set-up (the BVH build, the first touch of its arrays) is parallel: in the
-    // scene's arena, isolated like a step.
+                last_end.xyz().begin() + static_cast<std::ptrdiff_t>(3 * faces.vertex_offsets[m]));
+    // The set-up in the scene's arena, isolated like a step: the BVH build (parallel itself)
+    // beside the connectivity's (serial), then the stepper's arrays (first touched in parallel).
     in_arena([&] {
       if (options.volume == VolumeKind::Kdop18)
-        dop = std::make_unique<detail::Stepper<Kdop18>>(*topo, options, last_end);
+        dop = make_stepper<Kdop18>(faces);
       else
-        aabb = std::make_unique<detail::Stepper<Aabb>>(*topo, options, last_end);
+        aabb = make_stepper<Aabb>(faces);
     });
   }
 
+  template <BoundingVolume BV>
+  std::unique_ptr<detail::Stepper<BV>> make_stepper(const detail::SceneFaces& faces) {
+    BvhTopology bvh;
+    tbb::parallel_invoke(
+        [&] { bvh = detail::Stepper<BV>::build_bvh(faces.faces, faces.face_offsets, options, last_end); },
+        [&] {
+          topo = std::make_unique<detail::SceneTopology>(faces, options.meshes, resolved_representatives(options));
+        });
+    return std::make_unique<detail::Stepper<BV>>(*topo, options, last_end, std::move(bvh));
+  }
 
   StepResult query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
                    detail::StepKind kind, StepStats* stats);

@@ -13,6 +13,16 @@
 
 namespace mccd::detail {
 
+/// All meshes as one triangle list with global vertex ids, and each mesh's first vertex and
+/// first face (one more entry: the totals). Cheap; what the BVH build needs, so that it can run
+/// beside the connectivity's build (SceneTopology). Throws mccd::Error when the ids do not fit
+/// in 32 bits.
+struct SceneFaces {
+  std::vector<Triangle> faces;
+  std::vector<std::size_t> vertex_offsets{0}, face_offsets{0};
+};
+SceneFaces scene_faces(const std::vector<TriMesh>& meshes);
+
 class SceneTopology {
  public:
   SceneTopology() = default;
@@ -21,6 +31,10 @@ class SceneTopology {
   /// are computed only for the canonical rule; orphan pairs inside a mesh whose own pairs
   /// are never tested are dropped here.
   SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options,
+                Representatives rule = Representatives::Leaf)
+      : SceneTopology(scene_faces(meshes), std::move(options), rule) {}
+  /// The same from the meshes' scene_faces(), with as many options as meshes (or none).
+  SceneTopology(const SceneFaces& faces, std::vector<MeshOptions> options,
                 Representatives rule = Representatives::Leaf);
   SceneTopology(const SceneTopology&) = delete;  // the carriers point into topo_
   SceneTopology& operator=(const SceneTopology&) = delete;

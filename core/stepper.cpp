@@ -17,13 +17,19 @@ void add_stats(std::vector<WorkerOutput>& units, std::size_t n, StepStats& total
 }  // namespace
 
 template <BoundingVolume BV>
-Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial)
+BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
+                                   const SceneOptions& options, const Positions& initial) {
+  return BvhTopology(triangle_bounds(faces, initial), options.bvh,
+                     options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 8u), face_offsets);
+}
+
+template <BoundingVolume BV>
+Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial, BvhTopology bvh)
     : scene_(scene),
       options_(options),
       x0_(initial),
       x1_(initial),
-      bvh_(triangle_bounds(scene.topology().faces(), initial), options.bvh,
-           options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 8u), scene.face_offsets()),
+      bvh_(std::move(bvh)),
       refit_plan_(bvh_,
                   [&](std::uint32_t n) {
                     const std::uint32_t m = bvh_.mesh_of_node(n);

@@ -35,8 +35,15 @@ namespace mccd::detail {
 template <BoundingVolume BV>
 class Stepper {
  public:
-  /// Builds the BVH over the triangles' centroids at the positions `initial` (global ids).
-  Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial);
+  /// Builds the BVH over the triangles at the positions `initial` (global ids).
+  Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial)
+      : Stepper(scene, options, initial, build_bvh(scene.topology().faces(), scene.face_offsets(), options, initial)) {}
+  /// With the BVH of build_bvh() at hand (built beside the scene's connectivity).
+  Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial, BvhTopology bvh);
+  /// The BVH the options ask for, over the triangles `faces` (global vertex ids) at `initial`;
+  /// `face_offsets`: each mesh's first face (SceneFaces).
+  static BvhTopology build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
+                               const SceneOptions& options, const Positions& initial);
 
   /// The step's start and end positions, global vertex ids, filled by the caller before step().
   Positions& start() { return x0_; }

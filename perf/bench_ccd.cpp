@@ -17,15 +17,22 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_detail.h>
+#include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
 #include <mccd/geometry/query_io.h>
 #include <mccd/geometry/topology.h>
 
+#include "harness/cli.h"
+
 namespace fs = std::filesystem;
 using mccd::CcdPoints;
 using mccd::detail::CcdKind;
+using mccd::bench::integer_in;
+using mccd::bench::kMaxRepeats;
 
 namespace {
 
@@ -120,11 +127,7 @@ fs::path find_suffix(const fs::path& dir, const std::string& suffix) {
 }
 
 void load_step(const fs::path& dir, std::vector<QuerySet>& sets) {
-  std::vector<std::string> frames;
-  for (const auto& e : fs::directory_iterator(dir / "frames"))
-    if (e.path().extension() == ".ply") frames.push_back(e.path().string());
-  std::sort(frames.begin(), frames.end());
-  Step s{mccd::read_frames(frames), {}};
+  Step s{mccd::read_frames(mccd::bench::frame_files(dir)), {}};
   s.topo = mccd::MeshTopology(s.seq.mesh.num_vertices(), s.seq.mesh.faces);
   const std::uint64_t nv = s.topo.num_vertices(), ne = s.topo.num_edges();
   const auto& faces = s.topo.faces();
@@ -241,51 +244,54 @@ int main(int argc, char** argv) {
   std::string only;       // run only the sets whose name starts with this
   std::size_t limit = 0;  // at most this many queries per set (0: all)
   mccd::CcdOptions opt;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc)
-      runs = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--step" && i + 1 < argc)
-      step = argv[++i];
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
-    else if (a == "--limit" && i + 1 < argc)
-      limit = std::strtoul(argv[++i], nullptr, 10);
-    else if (a == "--min-distance" && i + 1 < argc)
-      opt.min_distance = std::atof(argv[++i]);
-    else
-      dir = a;
-  }
-  if (!fs::exists(dir)) {
-    std::fprintf(stderr, "bench_ccd: %s not found\n", dir.string().c_str());
-    return 2;
-  }
-  std::vector<QuerySet> sets{{"sample VF", CcdKind::VertexFace, {}}, {"sample EE", CcdKind::EdgeEdge, {}}};
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file() || e.path().extension() != ".csv") continue;
-    const int k = e.path().string().find("vertex-face") != std::string::npos ? 0 : 1;
-    for (const auto& x : mccd::read_query_csv(e.path().string())) sets[k].q.push_back(x.points);
-  }
+  CLI::App app{"Times the elementary CCD tests per stage (ns per call) on the benchmark sample queries and,\n"
+               "with --step, on the feature pairs of one real step; the search-only and fast paths alternate.",
+               "bench_ccd"};
+  app.add_option("DIR", dir, "sample queries folder: every *.csv below it (vertex-face in the path: VF, else EE)")
+      ->capture_default_str();
+  mccd::bench::add_repeats(app, "--runs", runs, "timed runs per stage and path (medians)");
+  app.add_option("--step", step,
+                 "also a Time-of-Impact step: TOI_DIR/frames/*.ply (two frames), TOI_DIR/boxes/*vf.json and *ee.json")
+      ->type_name("TOI_DIR");
+  app.add_option("--min-distance", opt.min_distance,
+                 "report pairs that come within this distance (a finite number >= 0)")
+      ->type_name("D")
+      ->check(mccd::bench::non_negative_number())
+      ->capture_default_str();
+  app.add_option("--only", only, "run only the sets whose name starts with this (e.g. sample, listed, box)")
+      ->type_name("SET_PREFIX");
+  app.add_option("--limit", limit, "at most this many queries per set, 0 to 1000000000 (0: all)")
+      ->type_name("N")
+      ->check(integer_in(0, 1'000'000'000))
+      ->capture_default_str();
+  if (const int rc = mccd::bench::parse_command_line(app, argc, argv); rc >= 0) return rc;
+
   try {
+    std::vector<QuerySet> sets{{"sample VF", CcdKind::VertexFace, {}}, {"sample EE", CcdKind::EdgeEdge, {}}};
+    if (!fs::exists(dir)) throw mccd::Error(dir.string() + " not found");
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+      if (!e.is_regular_file() || e.path().extension() != ".csv") continue;
+      const int k = e.path().string().find("vertex-face") != std::string::npos ? 0 : 1;
+      for (const auto& x : mccd::read_query_csv(e.path().string())) sets[k].q.push_back(x.points);
+    }
     if (!step.empty()) load_step(step, sets);
+    std::printf("%-11s %8s %9s %9s %8s | %6s %6s | %14s | %14s | %6s %6s %11s | %s\n", "set", "queries", "after-box",
+                "after-cop", "hits", "box", "cop", "past: S / F", "all: S / F", "f-hit", "f-miss", "pieces S/F",
+                "toi sum S / F");
+    for (QuerySet& s : sets) {
+      if (!s.name.starts_with(only)) continue;
+      if (limit > 0 && s.q.size() > limit) s.q.resize(limit);
+      bench(s, runs, opt);
+    }
+    std::printf(
+        "ns per query: box (all queries), cop (after the box test), past (the whole test on the queries past\n"
+        "both filters), all (the whole test, every query); S: search only, F: fast path first (the default),\n"
+        "alternating runs, medians of %d. hits: reported contacts (! when S and F differ). f-hit, f-miss:\n"
+        "share of the queries past the filters that the fast path certifies / clears; pieces: search pieces\n"
+        "per query past the filters; toi sum: over the reported contacts.\n",
+        runs);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_ccd: %s\n", e.what());
-    return 2;
+    return mccd::bench::report_failure("bench_ccd", e);
   }
-  std::printf("%-11s %8s %9s %9s %8s | %6s %6s | %14s | %14s | %6s %6s %11s | %s\n", "set", "queries", "after-box",
-              "after-cop", "hits", "box", "cop", "past: S / F", "all: S / F", "f-hit", "f-miss", "pieces S/F",
-              "toi sum S / F");
-  for (QuerySet& s : sets) {
-    if (!s.name.starts_with(only)) continue;
-    if (limit > 0 && s.q.size() > limit) s.q.resize(limit);
-    bench(s, runs, opt);
-  }
-  std::printf(
-      "ns per query: box (all queries), cop (after the box test), past (the whole test on the queries past\n"
-      "both filters), all (the whole test, every query); S: search only, F: fast path first (the default),\n"
-      "alternating runs, medians of %d. hits: reported contacts (! when S and F differ). f-hit, f-miss:\n"
-      "share of the queries past the filters that the fast path certifies / clears; pieces: search pieces\n"
-      "per query past the filters; toi sum: over the reported contacts.\n",
-      runs);
   return 0;
 }

@@ -19,6 +19,7 @@
 #include <mccd/geometry/error.h>
 
 #include "generators/scene_cache.h"
+#include "harness/cli.h"
 #include "harness/plots.h"
 #include "harness/report.h"
 #include "harness/summary.h"
@@ -47,7 +48,8 @@ std::string joined(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Times whole CCD steps per scene, method and thread count after checking every variant's contacts\n"
-               "against the serial result; writes a CSV of every run, a Markdown report and PNG plots."};
+               "against the serial result; writes a CSV of every run, a Markdown report and PNG plots.",
+               "bench_core"};
   std::vector<std::string> scenes = workload_names(), methods{"traverse", "phc", "fbd"};
   std::vector<int> threads;
   for (int t = 1; t <= tbb::info::default_concurrency(); ++t) threads.push_back(t);
@@ -62,22 +64,22 @@ int main(int argc, char** argv) {
   app.add_option("--size", source.size, "size of the generated scenes: tiny, small or full")->capture_default_str();
   app.add_option("--seed", source.seed, "seed of the generated scenes")->capture_default_str();
   app.add_option("--steps", source.steps, "frame intervals timed per generated scene (its last ones)")
-      ->check(CLI::PositiveNumber)
+      ->check(mccd::bench::integer_in(1, 1000))
       ->capture_default_str();
   app.add_option("--methods", methods, "methods: traverse, phc, fbd (bruteforce for small scenes)")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--threads", threads, "thread counts (default: 1 up to the hardware threads)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
-  app.add_option("--repeats", repeats, "timed runs per variant, after the warm-up")->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(mccd::bench::integer_in(1, mccd::bench::kMaxThreads));
+  app.add_option("--repeats", repeats, "timed runs per variant, after the warm-up")->check(mccd::bench::integer_in(1, mccd::bench::kMaxRepeats))->capture_default_str();
   app.add_option("--cache", source.cache_dir, "scene cache (default: $MCCD_SCENE_CACHE, $XDG_CACHE_HOME/mccd/scenes, ~/.cache/mccd/scenes)");
   app.add_option("--data", data_dir, "shared data folder with toi/cloth-ball (default: ../shared/data or $MCCD_DATA_DIR)")
       ->capture_default_str();
   app.add_option("--machine", machine, "name of the results folder (default: from the CPU model and thread count)");
   app.add_option("--out", out, "results folder (default: perf/results/<machine> in the source tree)");
   app.add_flag("--no-plots", no_plots, "skip the PNG plots");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = mccd::bench::parse_command_line(app, argc, argv); rc >= 0) return rc;
 
   try {
     SweepOptions opt;
@@ -124,7 +126,7 @@ int main(int argc, char** argv) {
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_core: %s\n", e.what());
-    return 1;
+    return mccd::bench::kExitUsage;
   }
   return 0;
 }

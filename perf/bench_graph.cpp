@@ -8,17 +8,20 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include <mccd/core/scene.h>
 #include <mccd/geometry/frame_sequence.h>
 
 #include "fixtures/scenes.h"
+#include "harness/cli.h"
 
 using namespace mccd;
+using namespace mccd::bench;
 
 namespace {
 
@@ -55,27 +58,34 @@ void compare(const char* name, const std::vector<TriMesh>& meshes, const std::ve
 
 int main(int argc, char** argv) {
   int threads = 2, rounds = 5;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--threads")) threads = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--rounds")) rounds = std::max(1, std::atoi(argv[i + 1]));
-  }
-  tbb::task_arena arena(threads);
-  std::printf("%d threads, %d alternating rounds\n", threads, rounds);
-  const AnimatedScene small = make_folding_cloth(22, 201);  // 968 triangles, 200 steps
-  compare("cloth 968", small.meshes, small.frames, arena, rounds);
-  const std::string dir = std::string(MCCD_DEFAULT_DATA_DIR) + "/toi/cloth-ball/frames";
-  if (std::filesystem::is_directory(dir)) {
-    std::vector<std::string> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-      if (e.path().extension() == ".ply") files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    const FrameSequence seq = read_frames(files);
-    // 92 -> 93 -> 92 -> 93: the front is tracked after the first step
-    std::vector<std::vector<Positions>> frames;
-    for (int k = 0; k < 6; ++k) frames.push_back({seq.frames[k % 2]});
-    compare("cloth-ball", {seq.mesh}, frames, arena, rounds);
-  } else {
-    std::printf("cloth-ball: %s not found, skipped\n", dir.c_str());
+  CLI::App app{"Times steps run through the step's flow graph against the same stages called in sequence,\n"
+               "alternating, on a small generated cloth and on the real cloth-ball step (when its data is there).",
+               "bench_graph"};
+  add_threads(app, threads);
+  add_repeats(app, "--rounds", rounds, "alternating rounds (graph on, then off)");
+  if (const int rc = parse_command_line(app, argc, argv); rc >= 0) return rc;
+
+  try {
+    tbb::task_arena arena(threads);
+    std::printf("%d threads, %d alternating rounds\n", threads, rounds);
+    const AnimatedScene small = make_folding_cloth(22, 201);  // 968 triangles, 200 steps
+    compare("cloth 968", small.meshes, small.frames, arena, rounds);
+    const std::string dir = std::string(MCCD_DEFAULT_DATA_DIR) + "/toi/cloth-ball/frames";
+    if (std::filesystem::is_directory(dir)) {
+      std::vector<std::string> files;
+      for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().extension() == ".ply") files.push_back(e.path().string());
+      std::sort(files.begin(), files.end());
+      const FrameSequence seq = read_frames(files);
+      // 92 -> 93 -> 92 -> 93: the front is tracked after the first step
+      std::vector<std::vector<Positions>> frames;
+      for (int k = 0; k < 6; ++k) frames.push_back({seq.frames[k % 2]});
+      compare("cloth-ball", {seq.mesh}, frames, arena, rounds);
+    } else {
+      std::printf("cloth-ball: %s not found, skipped\n", dir.c_str());
+    }
+  } catch (const std::exception& e) {
+    return report_failure("bench_graph", e);
   }
   return 0;
 }

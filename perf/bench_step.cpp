@@ -2,45 +2,54 @@
 // check), for measuring changes to the core. Repeats the step from scratch (a new Scene each
 // time, so the front is built from the root as in `mccd toi-check`) and prints the medians.
 //   bench_step [DIR] [--bvh median|sah] [--leaf 1..16] [--method fbd|phc|traverse] [--threads N] [--repeat K]
+// DIR: a Time-of-Impact scene, DIR/frames/*.ply (default: the shared data's toi/cloth-ball).
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include <mccd/core/scene.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
 
+#include "harness/cli.h"
+
 using namespace mccd;
+using namespace mccd::bench;
 
 int main(int argc, char** argv) {
   std::string dir = std::string(MCCD_DEFAULT_DATA_DIR) + "/toi/cloth-ball";
   SceneOptions opt;
   int threads = 1, repeat = 3;
+  CLI::App app{"Times one real step per stage (scene build, update, refit, search, orphans, join), repeated from\n"
+               "scratch with a new scene each time; prints the step's counts and the median seconds.",
+               "bench_step"};
+  app.add_option("DIR", dir, "Time-of-Impact scene folder with frames/*.ply (its first two frames are the step)")
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--bvh", [&opt](const std::string& v) { opt.bvh = parse_bvh_build(v.c_str()); },
+         "how the scene BVH is built: median or sah (default: sah)")
+      ->type_name("NAME")
+      ->check(parsed_by(parse_bvh_build));
+  app.add_option("--leaf", opt.leaf_size, "triangles per BVH leaf, 1 to 16 (default: 8 with sah, 1 with median)")
+      ->type_name("K")
+      ->check(integer_in(1, 16));
+  app.add_option_function<std::string>(
+         "--method", [&opt](const std::string& v) { opt.method = parse_method(v.c_str()); },
+         "how candidate pairs are found: fbd, phc, traverse or bruteforce (default: fbd)")
+      ->type_name("NAME")
+      ->check(parsed_by(parse_method));
+  add_threads(app, threads);
+  add_repeats(app, "--repeat", repeat, "timed steps, each on a new scene");
+  if (const int rc = parse_command_line(app, argc, argv); rc >= 0) return rc;
+
   try {
-    for (int i = 1; i < argc; ++i) {
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw Error(std::string(argv[i]) + " needs a value");
-        return argv[++i];
-      };
-      if (!std::strcmp(argv[i], "--bvh")) opt.bvh = parse_bvh_build(value().c_str());
-      else if (!std::strcmp(argv[i], "--leaf")) opt.leaf_size = unsigned(std::atoi(value().c_str()));
-      else if (!std::strcmp(argv[i], "--method")) opt.method = parse_method(value().c_str());
-      else if (!std::strcmp(argv[i], "--threads")) threads = std::max(1, std::atoi(value().c_str()));
-      else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(value().c_str()));
-      else if (argv[i][0] != '-') dir = argv[i];
-      else throw Error(std::string("unknown option ") + argv[i]);
-    }
-    std::vector<std::string> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir + "/frames"))
-      if (e.path().extension() == ".ply") files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    const FrameSequence seq = read_frames(files);
+    const FrameSequence seq = read_frames(frame_files(dir));
     tbb::task_arena arena(threads);
     opt.arena = &arena;
     std::vector<double> total, build, update, refit, search, orphans, join;
@@ -73,8 +82,7 @@ int main(int argc, char** argv) {
     std::printf("  median s: scene build %.3f, step %.3f (update %.3f, refit %.3f, search %.3f, orphans %.3f, join %.3f)\n",
                 med(build), med(total), med(update), med(refit), med(search), med(orphans), med(join));
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_step: %s\n", e.what());
-    return 2;
+    return report_failure("bench_step", e);
   }
   return 0;
 }
