@@ -26,14 +26,10 @@ SceneFaces scene_faces(const std::vector<TriMesh>& meshes);
 class SceneTopology {
  public:
   SceneTopology() = default;
-  /// From validated meshes and their options (empty: defaults). Throws mccd::Error when the
-  /// ids do not fit in 32 bits or the option count is wrong. The carriers and the orphan set
-  /// are computed only for the canonical rule; orphan pairs inside a mesh whose own pairs
-  /// are never tested are dropped here.
-  SceneTopology(const std::vector<TriMesh>& meshes, std::vector<MeshOptions> options,
-                Representatives rule = Representatives::Leaf)
-      : SceneTopology(scene_faces(meshes), std::move(options), rule) {}
-  /// The same from the meshes' scene_faces(), with as many options as meshes (or none).
+  /// From the scene_faces() of validated meshes and their options (empty: defaults). Throws
+  /// mccd::Error when the option count is wrong. The carriers and the orphan set are computed
+  /// only for the canonical rule; orphan pairs inside a mesh whose own pairs are never tested
+  /// are dropped here.
   SceneTopology(const SceneFaces& faces, std::vector<MeshOptions> options,
                 Representatives rule = Representatives::Leaf);
   SceneTopology(const SceneTopology&) = delete;  // the carriers point into topo_

@@ -35,10 +35,8 @@ namespace mccd::detail {
 template <BoundingVolume BV>
 class Stepper {
  public:
-  /// Builds the BVH over the triangles at the positions `initial` (global ids).
-  Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial)
-      : Stepper(scene, options, initial, build_bvh(scene.topology().faces(), scene.face_offsets(), options, initial)) {}
-  /// With the BVH of build_bvh() at hand (built beside the scene's connectivity).
+  /// With the scene's BVH from build_bvh() (the scene builds it beside its connectivity) and
+  /// the initial positions (global ids).
   Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial, BvhTopology bvh);
   /// The BVH the options ask for, over the triangles `faces` (global vertex ids) at `initial`;
   /// `face_offsets`: each mesh's first face (SceneFaces).
