@@ -9,10 +9,10 @@
 /// pairs of the method (front tracking, traversal, PHC or brute force) with their leaf pairs
 /// and elementary tests; self: the pairs no BVTT pair node holds (each leaf's own pairs under
 /// the leaf rule; the orphan set and the pairs inside leaves under the canonical rule), which
-/// need only the new volumes, so they run beside the search; join: the contacts into the
-/// canonical order. Each node calls the
-/// stage of its name; stages are parallel inside. The graph runs in the arena of the thread
-/// that calls run() (a task_arena's execute() included), re-attached at every run.
+/// need only the refitted volumes, so they run beside the search; join: the contacts into the
+/// canonical order. Each node calls the stage of its name; stages are parallel inside. The
+/// graph runs in the arena of the thread that calls run() (a task_arena's execute() included),
+/// re-attached at every run.
 #include <functional>
 #include <memory>
 
