@@ -4,7 +4,7 @@
 
 namespace mccd::detail {
 
-void BvttFront::build(std::vector<WorkerOutput>& pieces) {
+void BvttFront::build(WorkerOutputs& pieces) {
   // A counting sort by first node (stable: the traversal order is kept among nodes of one
   // first node), straight from the pieces in piece order; linear in the front and the BVH.
   std::uint32_t max_a = 0;
@@ -27,7 +27,7 @@ void BvttFront::build(std::vector<WorkerOutput>& pieces) {
   sprouted_since_build_ = invalidated_since_build_ = 0;
 }
 
-void BvttFront::advance(const std::vector<WorkerOutput>& blocks, std::size_t num_blocks, double sprout_ratio,
+void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
                         double invalid_ratio) {
   next_.clear();
   for (std::size_t b = 0; b < num_blocks; ++b) {

@@ -19,11 +19,11 @@ class BvttFront {
 
   /// A fresh front from the pieces of a traversal from the root (concatenated in piece order,
   /// then sorted by first node: BVH-node order, section 4.8). The pieces are released.
-  void build(std::vector<WorkerOutput>& pieces);
+  void build(WorkerOutputs& pieces);
   /// The next front from the outputs of the tracked blocks, in block order; adds their S and B
   /// counts and applies the rebuild rule: when S/L > sprout_ratio or B/L > invalid_ratio (L the
   /// new front size), the next step rebuilds.
-  void advance(const std::vector<WorkerOutput>& blocks, std::size_t num_blocks, double sprout_ratio,
+  void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
                double invalid_ratio);
   /// Forgets the front: the next fbd step builds it from the root.
   void invalidate() { valid_ = false; }

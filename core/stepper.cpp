@@ -11,7 +11,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-void add_stats(std::vector<WorkerOutput>& units, std::size_t n, StepStats& total) {
+void add_stats(WorkerOutputs& units, std::size_t n, StepStats& total) {
   for (std::size_t i = 0; i < n; ++i) total += units[i].stats;
 }
 }  // namespace
@@ -195,7 +195,7 @@ template <BoundingVolume BV>
 void Stepper<BV>::join() {
   const auto t = Clock::now();
   result_.stats += self_stats_;
-  join_contacts(contacts_, scene_, result_);
+  join_contacts(contacts_, sorted_, scene_, result_);
   result_.stats.t_contacts = seconds_since(t);
 }
 

@@ -90,11 +90,12 @@ class Stepper {
   // the current step
   Method method_ = Method::Fbd;
   StepResult result_;
-  std::vector<WorkerOutput> units_;  ///< per front block, or per PHC task
-  std::vector<WorkerOutput> self_units_;  ///< per block of the self stage
+  WorkerOutputs units_;  ///< per front block, or per PHC task
+  WorkerOutputs self_units_;  ///< per block of the self stage
   WorkerOutput serial_;
   StepStats self_stats_;
   ContactBuffer contacts_;
+  LargeVector<RawContact> sorted_;  ///< the join's scratch
   std::unique_ptr<StepGraph> graph_;
 };
 

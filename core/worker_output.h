@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <mccd/core/contact.h>
+#include <mccd/geometry/large_allocator.h>
 
 namespace mccd::detail {
 
@@ -46,5 +47,9 @@ struct WorkerOutput {
     stats = {};
   }
 };
+
+/// The outputs of a parallel loop, one per unit. Thousands of units make megabytes of
+/// outputs, first touched in the step: huge pages (geometry/large_allocator.h) make that cheap.
+using WorkerOutputs = std::vector<WorkerOutput, LargeAllocator<WorkerOutput>>;
 
 }  // namespace mccd::detail

@@ -12,6 +12,7 @@
 /// operator new. Memory is returned to where it came from; the allocator is stateless, so any
 /// two compare equal.
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <type_traits>
@@ -26,6 +27,18 @@ namespace mccd::detail {
 
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
 inline constexpr std::size_t kHugeMin = std::size_t(1) << 20;
+
+/// Advises MADV_HUGEPAGE on the whole 2 MiB pages inside [p, p + bytes) (memory allocated
+/// elsewhere, such as a std::vector handed to the caller, before its first touch). A hint:
+/// where the kernel declines, or elsewhere than Linux, nothing changes.
+inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__)
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kHugePage - 1) / kHugePage * kHugePage;
+  const std::uintptr_t last = (begin + bytes) / kHugePage * kHugePage;
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#endif
+}
 
 template <class T>
 struct LargeAllocator {

@@ -8,16 +8,19 @@
 
 namespace mccd::detail {
 
-void join_contacts(const ContactBuffer& buffer, const SceneTopology& scene, StepResult& res) {
+void join_contacts(const ContactBuffer& buffer, LargeVector<RawContact>& raw, const SceneTopology& scene,
+                   StepResult& res) {
   // The keys order the contacts canonically (worker_output.h) and are unique (one contact per
   // feature pair), so any sort gives the same order.
-  std::vector<RawContact> raw(buffer.begin(), buffer.end());
+  raw.assign(buffer.begin(), buffer.end());
   auto before = [](const RawContact& x, const RawContact& y) { return x.key < y.key; };
   const bool large = raw.size() > 4096;
   if (large)
     tbb::parallel_sort(raw.begin(), raw.end(), before);
   else
     std::sort(raw.begin(), raw.end(), before);
+  res.contacts.reserve(raw.size());
+  advise_huge_pages(res.contacts.data(), raw.size() * sizeof(Contact));
   res.contacts.resize(raw.size());
   auto convert = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i != end; ++i) {

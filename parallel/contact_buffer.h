@@ -1,7 +1,9 @@
 #pragma once
 /// @file Internal: the step's contacts. Workers feed a tbb::concurrent_vector in batches (one
 /// per block or task, never one record at a time); its order depends on scheduling until the
-/// join sorts the contacts into the canonical order, so the result does not.
+/// join sorts the contacts into the canonical order, so the result does not. Its segments, like
+/// every large buffer of a step, are in huge pages (geometry/large_allocator.h): first touched,
+/// 4 KiB pages cost a fault each, a large part of a first step on a virtual machine.
 #include <vector>
 
 #include <oneapi/tbb/concurrent_vector.h>
@@ -12,16 +14,20 @@
 
 namespace mccd::detail {
 
-using ContactBuffer = tbb::concurrent_vector<RawContact>;
+using ContactBuffer = tbb::concurrent_vector<RawContact, LargeAllocator<RawContact>>;
 
-/// Moves a worker's contacts into the buffer as one batch.
+/// Moves a worker's contacts into the buffer as one batch, and releases the worker's own
+/// storage: a parallel loop has thousands of units, and the next unit a thread runs then reuses
+/// the same memory instead of touching new pages (each a fault the first time).
 inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
   if (!out.contacts.empty()) buffer.grow_by(out.contacts.begin(), out.contacts.end());
-  out.contacts.clear();
+  out.contacts = std::vector<RawContact>();
 }
 
 /// The buffer as public contacts (mesh-local ids, EE vertex ids) in the canonical order, their
-/// VF / EE counts and the earliest time of impact. Sorted in parallel for large steps.
-void join_contacts(const ContactBuffer& buffer, const SceneTopology& scene, StepResult& result);
+/// VF / EE counts and the earliest time of impact. Sorted in parallel for large steps, in
+/// `scratch` (kept by the caller from step to step, so that its memory is reused).
+void join_contacts(const ContactBuffer& buffer, LargeVector<RawContact>& scratch, const SceneTopology& scene,
+                   StepResult& result);
 
 }  // namespace mccd::detail

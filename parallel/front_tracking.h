@@ -28,7 +28,7 @@ inline constexpr std::size_t kSerialBlocks = 4;
 /// by the caller from those outputs (BvttFront::advance). `readonly` (the simulator queries):
 /// the same tests without recording a next front (Bvtt::track_readonly).
 template <class Bvtt>
-std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, std::vector<WorkerOutput>& blocks,
+std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs& blocks,
                         ContactBuffer& contacts, bool readonly = false) {
   const LargeVector<NodePair>& nodes = front.nodes();
   const std::size_t n = (nodes.size() + kFrontBlock - 1) / kFrontBlock;

@@ -37,7 +37,7 @@ void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contact
 /// PHC: outs[0] receives the serial top's work, outs[1 + i] task i's; outs is resized to the
 /// number of tasks + 1.
 template <bool record, class Bvtt>
-void traverse_phc(const Bvtt& bvtt, std::vector<WorkerOutput>& outs, ContactBuffer& contacts,
+void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts,
                   std::size_t min_tasks = 0) {
   if (min_tasks == 0) min_tasks = phc_tasks(bvtt.bvh().size());
   if (outs.empty()) outs.resize(1);
