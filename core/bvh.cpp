@@ -1,5 +1,7 @@
 #include <mccd/core/bvh.h>
 
+#include <mccd/geometry/large_allocator.h>
+
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -225,7 +227,10 @@ class Builder {
 }  // namespace
 
 std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x) {
-  std::vector<TriangleBounds> out(faces.size());
+  std::vector<TriangleBounds> out;
+  out.reserve(faces.size());
+  detail::advise_huge_pages(out.data(), faces.size() * sizeof(TriangleBounds));  // megabytes, new
+  out.resize(faces.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t f = r.begin(); f != r.end(); ++f) {
       const Vec3 a = x.point(faces[f][0]), b = x.point(faces[f][1]), c = x.point(faces[f][2]);

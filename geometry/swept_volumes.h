@@ -57,6 +57,21 @@ class SweptVolumes {
     identity(layout_.vertex_slot, topo.num_vertices());
     identity(layout_.edge_slot, topo.num_edges());
     identity(layout_.face_slot, topo.num_faces());
+    // The inverse maps of the slot-order update: each slot's vertex, each edge slot's and face
+    // slot's vertices as slots.
+    vertex_of_slot_.resize(topo.num_vertices());
+    for (std::size_t v = 0; v < topo.num_vertices(); ++v) vertex_of_slot_[layout_.vertex_slot[v]] = static_cast<std::uint32_t>(v);
+    edge_end_slots_.resize(topo.num_edges());
+    for (std::size_t e = 0; e < topo.num_edges(); ++e) {
+      const Edge& ed = topo.edges()[e];
+      edge_end_slots_[layout_.edge_slot[e]] = {layout_.vertex_slot[ed[0]], layout_.vertex_slot[ed[1]]};
+    }
+    face_corner_slots_.resize(topo.num_faces());
+    for (std::size_t f = 0; f < topo.num_faces(); ++f) {
+      const Triangle& t = topo.faces()[f];
+      face_corner_slots_[layout_.face_slot[f]] = {layout_.vertex_slot[t[0]], layout_.vertex_slot[t[1]],
+                                                  layout_.vertex_slot[t[2]]};
+    }
     vertex_.resize(topo.num_vertices());
     vertex_quarters_.resize(topo.num_vertices());
     edge_quarters_.resize(topo.num_edges());
@@ -76,27 +91,7 @@ class SweptVolumes {
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
   /// inflated by `min_distance`. Each range writes only its own vertices.
   void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end) {
-    constexpr int S = BV::kSlabs;
-    for (std::size_t v = begin; v != end; ++v) {
-      const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
-      const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
-      // The points a + (k/4)(b - a), k = 0..4, projected on the slabs' axes. The split points
-      // and the projections carry rounding errors relative to the coordinates (at most a few
-      // units of 2^-53 of the largest one), so each quarter's bounds are moved out by 2^-48 of
-      // the largest coordinate, far above those errors, and then rounded outward to float.
-      const Vec3 step = b - a;
-      double pr[5][S];
-      for (int k = 0; k < 5; ++k) BV::project(k == 4 ? b : Vec3(a + (0.25 * k) * step), pr[k]);
-      const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
-      const std::uint32_t slot = layout_.vertex_slot[v];
-      Quarters& q = vertex_quarters_[slot];
-      for (int s = 0; s < S; ++s)
-        for (int k = 0; k < 4; ++k) {
-          q.lo[s][k] = float_below(std::min(pr[k][s], pr[k + 1][s]) - margin);
-          q.hi[s][k] = float_above(std::max(pr[k][s], pr[k + 1][s]) + margin);
-        }
-      vertex_[slot] = q.whole();
-    }
+    for (std::size_t v = begin; v != end; ++v) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
   }
 
   /// Faces [begin, end): the merge of their corners' volumes (after update_vertices).
@@ -114,6 +109,29 @@ class SweptVolumes {
     for (std::size_t e = begin; e != end; ++e) {
       const Edge& ed = topo.edges()[e];
       edge_quarters_[layout_.edge_slot[e]] = Quarters::merged(vertex_quarters(ed[0]), vertex_quarters(ed[1]));
+    }
+  }
+
+  /// The same three by slot ranges [begin, end) of the storage, for a step where every vertex
+  /// moves: the volumes are then written in storage order (sequentially, not scattered by
+  /// the layout), and an edge or face reads its vertices' volumes near its own (the leaf
+  /// layout keeps a leaf's features together). The same values as the updates by id.
+  void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
+                           std::size_t end) {
+    for (std::size_t s = begin; s != end; ++s) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
+  }
+  void update_face_slots(std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s != end; ++s) {
+      const Triangle& c = face_corner_slots_[s];
+      BV d = BV::merged(vertex_[c[0]], vertex_[c[1]]);
+      d.merge(vertex_[c[2]]);
+      face_[s] = d;
+    }
+  }
+  void update_edge_slots(std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s != end; ++s) {
+      const Edge& c = edge_end_slots_[s];
+      edge_quarters_[s] = Quarters::merged(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
     }
   }
 
@@ -138,7 +156,33 @@ class SweptVolumes {
   const Quarters& edge_quarters_at(std::uint32_t slot) const { return edge_quarters_[slot]; }
 
  private:
+  /// Vertex v's volumes into slot `slot`: its swept segment between the interleaved positions
+  /// x0, x1, inflated by `min_distance`.
+  void vertex_volumes(const double* x0, const double* x1, double min_distance, std::size_t v, std::size_t slot) {
+    constexpr int S = BV::kSlabs;
+    const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
+    const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
+    // The points a + (k/4)(b - a), k = 0..4, projected on the slabs' axes. The split points
+    // and the projections carry rounding errors relative to the coordinates (at most a few
+    // units of 2^-53 of the largest one), so each quarter's bounds are moved out by 2^-48 of
+    // the largest coordinate, far above those errors, and then rounded outward to float.
+    const Vec3 step = b - a;
+    double pr[5][S];
+    for (int k = 0; k < 5; ++k) BV::project(k == 4 ? b : Vec3(a + (0.25 * k) * step), pr[k]);
+    const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
+    Quarters& q = vertex_quarters_[slot];
+    for (int s = 0; s < S; ++s)
+      for (int k = 0; k < 4; ++k) {
+        q.lo[s][k] = float_below(std::min(pr[k][s], pr[k + 1][s]) - margin);
+        q.hi[s][k] = float_above(std::max(pr[k][s], pr[k + 1][s]) + margin);
+      }
+    vertex_[slot] = q.whole();
+  }
+
   VolumeLayout layout_;
+  std::vector<std::uint32_t> vertex_of_slot_;  ///< per vertex slot: the vertex
+  std::vector<Edge> edge_end_slots_;           ///< per edge slot: its ends' vertex slots
+  std::vector<Triangle> face_corner_slots_;    ///< per face slot: its corners' vertex slots
   // by slot:
   LargeVector<BV> vertex_;                  ///< per vertex: the merge of its quarters
   LargeVector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters

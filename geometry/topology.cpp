@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <mccd/geometry/large_allocator.h>
+
 namespace mccd {
 
 MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>& faces) : faces_(faces) {
@@ -23,7 +25,7 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   };
   // Sorted by (hi, lo, face) in linear time: bucketed by hi (a counting sort), then each
   // bucket, a few half-edges around one vertex, sorted by (lo, face).
-  std::vector<HalfEdge> half(3 * nf);
+  detail::LargeVector<HalfEdge> half(3 * nf);  // megabytes, touched once: huge pages (large_allocator.h)
   {
     std::vector<std::uint32_t> start(num_vertices + 1, 0);
     for (const Triangle& t : faces)
@@ -43,6 +45,10 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   // faces falls out directly.
   face_edges_.assign(nf, {0, 0, 0});
   edge_faces_.reserve(half.size());
+  // At most one edge per half-edge: reserved once instead of grown (each growth copies and
+  // touches new pages; the unused part of the reservation is never touched).
+  edges_.reserve(half.size());
+  edge_face_offsets_.reserve(half.size() + 1);
   for (std::size_t i = 0; i < half.size(); ++i) {
     if (i == 0 || half[i].hi != half[i - 1].hi || half[i].lo != half[i - 1].lo) {
       edges_.push_back({half[i].lo, half[i].hi});

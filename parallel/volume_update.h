@@ -34,6 +34,16 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
                           const IndexRanges& faces, const IndexRanges& edges) {
   constexpr std::size_t kGrain = 4096;
+  auto all = [](const IndexRanges& r, std::size_t n) { return r.size() == 1 && r[0].first == 0 && r[0].second == n; };
+  if (all(vertices, topo.num_vertices()) && all(faces, topo.num_faces()) && all(edges, topo.num_edges())) {
+    // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
+    static_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
+      swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e);
+    });
+    static_for(topo.num_faces(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_face_slots(b, e); });
+    static_for(topo.num_edges(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_edge_slots(b, e); });
+    return;
+  }
   // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
   for (const auto& range : vertices) {
     const std::size_t b0 = range.first, e0 = range.second;

@@ -143,22 +143,36 @@ TEST(SweptVolumes, LayoutMovesStorageNotValues) {
   layout.face_slot = {2, 0, 1};
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e)
     layout.edge_slot.push_back(static_cast<std::uint32_t>(topo.num_edges() - 1 - e));
-  SweptVolumes<Kdop18> a, b;
+  SweptVolumes<Kdop18> a, b, c;
   a.resize(topo);
   b.resize(topo, layout);
+  c.resize(topo, layout);
   for (SweptVolumes<Kdop18>* s : {&a, &b}) {
     s->update_vertices(x0.data(), x1.data(), 0.0, 0, 5);
     s->update_faces(topo, 0, 3);
     s->update_edges(topo, 0, topo.num_edges());
   }
+  // The storage-order update (every vertex moving), in two slot ranges each.
+  c.update_vertex_slots(x0.data(), x1.data(), 0.0, 0, 2);
+  c.update_vertex_slots(x0.data(), x1.data(), 0.0, 2, 5);
+  c.update_face_slots(0, 1);
+  c.update_face_slots(1, 3);
+  c.update_edge_slots(0, 3);
+  c.update_edge_slots(3, topo.num_edges());
   auto same = [](const auto& x, const auto& y) { return std::memcmp(&x, &y, sizeof(x)) == 0; };
   for (std::uint32_t v = 0; v < 5; ++v) {
     EXPECT_TRUE(same(a.vertex_quarters(v), b.vertex_quarters(v)));
     EXPECT_TRUE(same(b.vertex_quarters(v), b.vertex_quarters_at(layout.vertex_slot[v])));
+    EXPECT_TRUE(same(b.vertex_quarters(v), c.vertex_quarters(v)));
+    EXPECT_TRUE(same(b.vertex(v), c.vertex(v)));
   }
-  for (std::uint32_t f = 0; f < 3; ++f) EXPECT_TRUE(same(a.face(f), b.face(f)));
+  for (std::uint32_t f = 0; f < 3; ++f) {
+    EXPECT_TRUE(same(a.face(f), b.face(f)));
+    EXPECT_TRUE(same(b.face(f), c.face(f)));
+  }
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e) {
     EXPECT_TRUE(same(a.edge_quarters(e), b.edge_quarters(e)));
     EXPECT_TRUE(same(b.edge_quarters(e), b.edge_quarters_at(layout.edge_slot[e])));
+    EXPECT_TRUE(same(b.edge_quarters(e), c.edge_quarters(e)));
   }
 }
