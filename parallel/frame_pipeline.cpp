@@ -1,6 +1,8 @@
 #include <mccd/parallel/frame_pipeline.h>
 
+#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/flow_graph.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include <memory>
 
@@ -14,13 +16,28 @@ namespace flow = tbb::flow;
 struct Frame {
   std::vector<Positions> positions;
 };
-struct Batch {
-  std::vector<PipelineStep> steps;  // the sub-steps of one frame interval
+/// One stepped sub-step on its way to the writer; `last`: the last of its frame interval
+/// (its writing frees the frame's place in flight).
+struct Stepped {
+  PipelineStep step;
+  bool last = false;
 };
 using FramePtr = std::shared_ptr<Frame>;
-using BatchPtr = std::shared_ptr<Batch>;
+using SteppedPtr = std::shared_ptr<Stepped>;
 
 std::vector<PositionsView> views(const std::vector<Positions>& p) { return {p.begin(), p.end()}; }
+
+/// out = (1 - u) a + u b, row blocks in parallel (a sub-step's positions: megabytes for a
+/// large mesh, written between steps while nothing else runs).
+void interpolate(const Positions& a, const Positions& b, double u, Positions& out) {
+  out.resize(a.rows());
+  const std::size_t n = 3 * a.rows();
+  const double *pa = a.xyz().data(), *pb = b.xyz().data();
+  double* po = out.xyz().data();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 15), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) po[i] = (1 - u) * pa[i] + u * pb[i];
+  });
+}
 }  // namespace
 
 std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const FrameSource& source,
@@ -31,7 +48,6 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   std::size_t steps = 0;
 
   flow::graph g;
-  // reader: the next frame from the source, one at a time (input_node is serial)
   flow::input_node<FramePtr> reader(g, [&](tbb::flow_control& fc) -> FramePtr {
     auto f = std::make_shared<Frame>();
     if (!source(f->positions)) {
@@ -40,37 +56,41 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
     }
     return f;
   });
-  // gate: bounds the frames read ahead of the writer
   flow::limiter_node<FramePtr> gate(g, options.frames_in_flight);
-  // stepper: frame i-1 -> i in `substeps` linear sub-steps; serial, since each step needs the last
-  flow::function_node<FramePtr, BatchPtr> stepper(g, flow::serial, [&](const FramePtr& f) {
-    auto batch = std::make_shared<Batch>();
+  // Each sub-step goes to the writer as soon as it is stepped, so that writing it overlaps
+  // the next sub-step.
+  using StepperNode = flow::multifunction_node<FramePtr, std::tuple<SteppedPtr>>;
+  StepperNode stepper(g, flow::serial, [&](const FramePtr& f, StepperNode::output_ports_type& out) {
     const int k_max = options.substeps;
     for (int k = 1; k <= k_max; ++k) {
       const double u = double(k) / k_max;
-      std::vector<Positions> end = f->positions;
-      if (k < k_max)
-        for (std::size_t m = 0; m < end.size() && m < prev.size(); ++m)
-          if (end[m].rows() == prev[m].rows()) end[m].mat() = (1 - u) * cur[m].mat() + u * f->positions[m].mat();
-      PipelineStep s;
-      s.index = ++steps;
-      s.result = scene.step(views(prev), views(end), options.method);
+      std::vector<Positions> end(f->positions.size());
+      for (std::size_t m = 0; m < end.size(); ++m) {
+        if (k < k_max && m < prev.size() && f->positions[m].rows() == prev[m].rows() &&
+            cur[m].rows() == prev[m].rows())
+          interpolate(cur[m], f->positions[m], u, end[m]);
+        else
+          end[m] = f->positions[m];
+      }
+      auto s = std::make_shared<Stepped>();
+      s->step.index = ++steps;
+      s->step.result = scene.step(views(prev), views(end), options.method);
+      s->last = k == k_max;
       prev = std::move(end);
-      batch->steps.push_back(std::move(s));
+      std::get<0>(out).try_put(s);
     }
     cur = f->positions;
-    return batch;
   });
-  // writer: hands results to the sink in order, then lets the reader go on
-  flow::function_node<BatchPtr, flow::continue_msg> writer(g, flow::serial, [&](const BatchPtr& b) {
-    for (const PipelineStep& s : b->steps) sink(s);
-    return flow::continue_msg();
+  using WriterNode = flow::multifunction_node<SteppedPtr, std::tuple<flow::continue_msg>>;
+  WriterNode writer(g, flow::serial, [&](const SteppedPtr& s, WriterNode::output_ports_type& out) {
+    sink(s->step);
+    if (s->last) std::get<0>(out).try_put(flow::continue_msg());
   });
 
   flow::make_edge(reader, gate);
   flow::make_edge(gate, stepper);
-  flow::make_edge(stepper, writer);
-  flow::make_edge(writer, gate.decrementer());
+  flow::make_edge(flow::output_port<0>(stepper), writer);
+  flow::make_edge(flow::output_port<0>(writer), gate.decrementer());
   reader.activate();
   g.wait_for_all();  // rethrows what a node body threw
   return steps;
