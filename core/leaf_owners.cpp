@@ -1,5 +1,8 @@
 #include <mccd/core/leaf_owners.h>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
 namespace mccd::detail {
 
 LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
@@ -33,21 +36,31 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
   auto next = static_cast<std::uint32_t>(vertices_.size());
   for (std::uint32_t& s : l.vertex_slot)
     if (s == kNoFace) s = next++;  // isolated vertices: stored, never tested
+  // Permutations and copies in slot order: every entry written once, in parallel blocks
+  // (megabytes for a large scene).
+  auto blocks = [](std::size_t n, const auto& body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  };
   l.edge_slot.resize(topo.num_edges());
   edge_ends_.resize(topo.num_edges());
-  for (std::size_t s = 0; s < edges_.size(); ++s) {
-    l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
-    edge_ends_[s] = topo.edges()[edges_[s]];
-  }
+  blocks(edges_.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t s = b; s != e; ++s) {
+      l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
+      edge_ends_[s] = topo.edges()[edges_[s]];
+    }
+  });
   const std::vector<std::uint32_t>& order = bvh.triangle_order();
   l.face_slot.resize(topo.num_faces());
   face_corners_.resize(order.size());
   face_corner_slots_.resize(order.size());
-  for (std::size_t s = 0; s < order.size(); ++s) {
-    l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
-    face_corners_[s] = topo.faces()[order[s]];
-    for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
-  }
+  blocks(order.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t s = b; s != e; ++s) {
+      l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
+      face_corners_[s] = topo.faces()[order[s]];
+      for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
+    }
+  });
 }
 
 }  // namespace mccd::detail

@@ -52,8 +52,8 @@ class LeafOwnership {
   std::vector<std::uint32_t> vertex_begin_, vertices_;  ///< CSR over BVH nodes
   std::vector<std::uint32_t> edge_begin_, edges_;
   // Copies in leaf order of what leaf pairs read, so that they read it together.
-  std::vector<Edge> edge_ends_;                               ///< per edge slot
-  std::vector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot
+  LargeVector<Edge> edge_ends_;                               ///< per edge slot
+  LargeVector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot
   VolumeLayout layout_;
 };
 

@@ -41,10 +41,10 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       leaf_(scene, bvh_, owners_, nodes_, tests_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
-  swept_.resize(topo, owners_.layout());
   // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
   // scene constructs its stepper in its arena).
   auto chunks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
+  swept_.resize(topo, owners_.layout(), chunks);
   swept_.first_touch(chunks);
   first_touch(nodes_, chunks);
   // With static meshes, every volume once at the initial positions: the static meshes' stay

@@ -48,6 +48,12 @@ class SweptVolumes {
   using Quarters = QuarterVolume<BV>;
 
   void resize(const MeshTopology& topo, VolumeLayout layout = {}) {
+    resize(topo, std::move(layout), [](std::size_t n, const auto& body) { body(std::size_t(0), n); });
+  }
+  /// The same, with the inverse maps of the layout filled through `for_chunks(n, body)` (body(begin,
+  /// end) over element indices; a parallel loop: megabytes for a large scene).
+  template <class ForChunks>
+  void resize(const MeshTopology& topo, VolumeLayout layout, const ForChunks& for_chunks) {
     layout_ = std::move(layout);
     auto identity = [](std::vector<std::uint32_t>& slot, std::size_t n) {
       if (!slot.empty()) return;
@@ -58,20 +64,26 @@ class SweptVolumes {
     identity(layout_.edge_slot, topo.num_edges());
     identity(layout_.face_slot, topo.num_faces());
     // The inverse maps of the slot-order update: each slot's vertex, each edge slot's and face
-    // slot's vertices as slots.
+    // slot's vertices as slots. The layout is a permutation: every entry is written once.
     vertex_of_slot_.resize(topo.num_vertices());
-    for (std::size_t v = 0; v < topo.num_vertices(); ++v) vertex_of_slot_[layout_.vertex_slot[v]] = static_cast<std::uint32_t>(v);
     edge_end_slots_.resize(topo.num_edges());
-    for (std::size_t e = 0; e < topo.num_edges(); ++e) {
-      const Edge& ed = topo.edges()[e];
-      edge_end_slots_[layout_.edge_slot[e]] = {layout_.vertex_slot[ed[0]], layout_.vertex_slot[ed[1]]};
-    }
     face_corner_slots_.resize(topo.num_faces());
-    for (std::size_t f = 0; f < topo.num_faces(); ++f) {
-      const Triangle& t = topo.faces()[f];
-      face_corner_slots_[layout_.face_slot[f]] = {layout_.vertex_slot[t[0]], layout_.vertex_slot[t[1]],
-                                                  layout_.vertex_slot[t[2]]};
-    }
+    const std::vector<std::uint32_t>& vs = layout_.vertex_slot;
+    for_chunks(topo.num_vertices(), [&](std::size_t b, std::size_t e) {
+      for (std::size_t v = b; v != e; ++v) vertex_of_slot_[vs[v]] = static_cast<std::uint32_t>(v);
+    });
+    for_chunks(topo.num_edges(), [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i != e; ++i) {
+        const Edge& ed = topo.edges()[i];
+        edge_end_slots_[layout_.edge_slot[i]] = {vs[ed[0]], vs[ed[1]]};
+      }
+    });
+    for_chunks(topo.num_faces(), [&](std::size_t b, std::size_t e) {
+      for (std::size_t f = b; f != e; ++f) {
+        const Triangle& t = topo.faces()[f];
+        face_corner_slots_[layout_.face_slot[f]] = {vs[t[0]], vs[t[1]], vs[t[2]]};
+      }
+    });
     vertex_.resize(topo.num_vertices());
     vertex_quarters_.resize(topo.num_vertices());
     edge_quarters_.resize(topo.num_edges());
@@ -180,9 +192,9 @@ class SweptVolumes {
   }
 
   VolumeLayout layout_;
-  std::vector<std::uint32_t> vertex_of_slot_;  ///< per vertex slot: the vertex
-  std::vector<Edge> edge_end_slots_;           ///< per edge slot: its ends' vertex slots
-  std::vector<Triangle> face_corner_slots_;    ///< per face slot: its corners' vertex slots
+  LargeVector<std::uint32_t> vertex_of_slot_;  ///< per vertex slot: the vertex
+  LargeVector<Edge> edge_end_slots_;           ///< per edge slot: its ends' vertex slots
+  LargeVector<Triangle> face_corner_slots_;    ///< per face slot: its corners' vertex slots
   // by slot:
   LargeVector<BV> vertex_;                  ///< per vertex: the merge of its quarters
   LargeVector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
