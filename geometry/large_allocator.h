@@ -6,11 +6,13 @@
 /// first time in 4 KiB pages, every page costs a fault (in virtual machines several
 /// microseconds each: cloth-ball's 60 MB of swept volumes took 0.18 s to zero); in 2 MiB huge
 /// pages the same memory takes a few hundred faults, and the traversal's random reads miss
-/// the TLB less. Arrays of at least kHugeMin bytes are therefore allocated on 2 MiB
-/// boundaries and advised MADV_HUGEPAGE (Linux; a hint: where the kernel declines, nothing
-/// changes but the alignment). Smaller arrays, and every array elsewhere, come from
-/// operator new. Memory is returned to where it came from; the allocator is stateless, so any
-/// two compare equal.
+/// the TLB less. Arrays of at least one huge page are therefore allocated on 2 MiB boundaries,
+/// and their whole huge pages advised MADV_HUGEPAGE (Linux; a hint: where the kernel declines,
+/// nothing changes but the alignment). The last partial huge page is not advised: it stays in
+/// 4 KiB pages, touched only as far as the array reaches, so the resident memory is the
+/// array's own (a huge page there would hold up to 2 MiB of nothing). Smaller arrays, and every
+/// array elsewhere, come from operator new. Memory is returned to where it came from; the
+/// allocator is stateless, so any two compare equal.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -26,7 +28,7 @@
 namespace mccd::detail {
 
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
-inline constexpr std::size_t kHugeMin = std::size_t(1) << 20;
+inline constexpr std::size_t kHugeMin = kHugePage;
 
 /// Advises MADV_HUGEPAGE on the whole 2 MiB pages inside [p, p + bytes) (memory allocated
 /// elsewhere, such as a std::vector handed to the caller, before its first touch). A hint:
@@ -55,7 +57,7 @@ struct LargeAllocator {
       const std::size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
       void* p = std::aligned_alloc(kHugePage, size);
       if (!p) throw std::bad_alloc();
-      madvise(p, size, MADV_HUGEPAGE);  // a hint; its failure changes nothing
+      madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);  // a hint; its failure changes nothing
       return static_cast<T*>(p);
     }
 #endif
