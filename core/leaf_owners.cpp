@@ -1,7 +1,6 @@
 #include <mccd/core/leaf_owners.h>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
+#include <mccd/parallel/volume_update.h>
 
 namespace mccd::detail {
 
@@ -38,10 +37,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
     if (s == kNoFace) s = next++;  // isolated vertices: stored, never tested
   // Permutations and copies in slot order: every entry written once, in parallel blocks
   // (megabytes for a large scene).
-  auto blocks = [](std::size_t n, const auto& body) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-  };
+  auto blocks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
   l.edge_slot.resize(topo.num_edges());
   edge_ends_.resize(topo.num_edges());
   blocks(edges_.size(), [&](std::size_t b, std::size_t e) {

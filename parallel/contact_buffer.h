@@ -2,8 +2,9 @@
 /// @file Internal: the step's contacts. Workers feed a tbb::concurrent_vector in batches (one
 /// per block or task, never one record at a time); its order depends on scheduling until the
 /// join sorts the contacts into the canonical order, so the result does not. Its segments, like
-/// every large buffer of a step, are in huge pages (geometry/large_allocator.h): first touched,
-/// 4 KiB pages cost a fault each, a large part of a first step on a virtual machine.
+/// the step's other large buffers, come from the large-array allocator (geometry/
+/// large_allocator.h: huge pages for their whole 2 MiB pages): first touched, 4 KiB pages cost
+/// a fault each, a large part of a first step on a virtual machine.
 #include <vector>
 
 #include <oneapi/tbb/concurrent_vector.h>

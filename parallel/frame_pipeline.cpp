@@ -1,12 +1,11 @@
 #include <mccd/parallel/frame_pipeline.h>
 
-#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/flow_graph.h>
-#include <oneapi/tbb/parallel_for.h>
 
 #include <memory>
 
 #include <mccd/geometry/error.h>
+#include <mccd/parallel/volume_update.h>
 
 namespace mccd {
 
@@ -34,8 +33,8 @@ void interpolate(const Positions& a, const Positions& b, double u, Positions& ou
   const std::size_t n = 3 * a.rows();
   const double *pa = a.xyz().data(), *pb = b.xyz().data();
   double* po = out.xyz().data();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 15), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) po[i] = (1 - u) * pa[i] + u * pb[i];
+  detail::static_for(n, std::size_t(1) << 15, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i != e; ++i) po[i] = (1 - u) * pa[i] + u * pb[i];
   });
 }
 }  // namespace
