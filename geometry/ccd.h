@@ -50,10 +50,11 @@
 ///         search with toi = 1 - 2^-k, and any piece undecided at depth >= 16 ends it with
 ///         toi = its start (every earlier piece is cleared, so this is never late);
 ///       - on a piece where the cubic certainly changes sign, its sign change is located by
-///         floating-point bisection and the piece is replaced by a window of width 2^(k+1-D)
-///         (D the maximum depth of the pass, k = 3, 8 or 13) around it, once the cubic is
-///         proved (rigorous bounds, polynomials restricted from [0, 1]) certainly nonzero on
-///         the rest of the piece: about D - k levels of bisection are skipped;
+///         bracketed floating-point Newton steps and the piece is replaced by a window of
+///         width 2^(k+1-D) (D the maximum depth of the pass, k = 3, 8 or 13) around it,
+///         once the cubic is proved (rigorous bounds, polynomials restricted from [0, 1])
+///         certainly nonzero on the rest of the piece: about D - k levels of bisection are
+///         skipped;
 ///       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
 ///         exhausts them is reported as a contact at the start of the current piece.
 ///

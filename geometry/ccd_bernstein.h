@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace mccd::detail {
 
@@ -180,6 +181,48 @@ inline T eval_at(const Bern<3, T>& f, T s) {
   for (int k = 3; k > 0; --k)
     for (int i = 0; i < k; ++i) b[i] = b[i] + s * (b[i + 1] - b[i]);
   return b[0];
+}
+
+// Floating-point estimate of the only root of the cubic p (Bernstein form over [x, y], end
+// values of opposite signs): safeguarded Newton in s in [0, 1] on de Casteljau values, to
+// about 2^-40 of the piece. Returns the time, and the slope df/dt there in `slope`. Only an
+// estimate: callers place a bracket or window with it and then check that rigorously (the
+// fast path, geometry/ccd_fast.h; the search's jump to the root, geometry/ccd_search.h).
+template <class T>
+inline T root_estimate(const Bern<3, T>& p, std::type_identity_t<T> x, std::type_identity_t<T> y, T& slope) {
+  const bool neg0 = p.c[0] < 0;
+  T sl = 0, sr = 1;
+  // Start where the control polygon first leaves the sign of c0 (it converges to the curve
+  // quadratically under subdivision, so this is already close).
+  T s = 0.5;
+  for (int k = 0; k < 3; ++k)
+    if ((p.c[k + 1] < 0) != neg0) {
+      const T q = (k + p.c[k] / (p.c[k] - p.c[k + 1])) / 3;
+      if (q > 0 && q < 1) s = q;
+      break;
+    }
+  T d = 0;
+  for (int it = 0; it < 40; ++it) {
+    T b[3] = {p.c[0] + s * (p.c[1] - p.c[0]), p.c[1] + s * (p.c[2] - p.c[1]), p.c[2] + s * (p.c[3] - p.c[2])};
+    b[0] += s * (b[1] - b[0]);
+    b[1] += s * (b[2] - b[1]);
+    const T v = b[0] + s * (b[1] - b[0]);
+    d = 3 * (b[1] - b[0]);
+    if (v == 0) break;
+    (((v < 0) == neg0) ? sl : sr) = s;
+    const T step = v / d;
+    const T ns = s - step;
+    // A step this small is converged (the next one would be about step^2 times a modest
+    // factor); near the root it may not even move s, so test it before the bracket.
+    if (std::fabs(step) <= 0x1p-40) {
+      s = std::clamp(ns, sl, sr);
+      break;
+    }
+    s = ns > sl && ns < sr ? ns : 0.5 * (sl + sr);
+    if (sr - sl <= 0x1p-52) break;
+  }
+  slope = d / (y - x);
+  return x + s * (y - x);
 }
 
 }  // namespace mccd::detail

@@ -99,46 +99,6 @@ inline int split_points(const Bern<3, double>& f, double (&m)[2]) {
   return k;
 }
 
-// Floating-point estimate of the only root of the cubic p (Bernstein form over [x, y], end
-// values of opposite signs): safeguarded Newton in s in [0, 1] on de Casteljau values.
-// Returns the time, and the slope df/dt there in `slope`. Any result is sound: it only
-// places the bracket, which is then checked rigorously.
-inline double root_estimate(const Bern<3, double>& p, double x, double y, double& slope) {
-  const bool neg0 = p.c[0] < 0;
-  double sl = 0, sr = 1;
-  // Start where the control polygon first leaves the sign of c0 (it converges to the curve
-  // quadratically under subdivision, so this is already close).
-  double s = 0.5;
-  for (int k = 0; k < 3; ++k)
-    if ((p.c[k + 1] < 0) != neg0) {
-      const double q = (k + p.c[k] / (p.c[k] - p.c[k + 1])) / 3;
-      if (q > 0 && q < 1) s = q;
-      break;
-    }
-  double d = 0;
-  for (int it = 0; it < 40; ++it) {
-    double b[3] = {p.c[0] + s * (p.c[1] - p.c[0]), p.c[1] + s * (p.c[2] - p.c[1]), p.c[2] + s * (p.c[3] - p.c[2])};
-    b[0] += s * (b[1] - b[0]);
-    b[1] += s * (b[2] - b[1]);
-    const double v = b[0] + s * (b[1] - b[0]);
-    d = 3 * (b[1] - b[0]);
-    if (v == 0) break;
-    (((v < 0) == neg0) ? sl : sr) = s;
-    const double step = v / d;
-    const double ns = s - step;
-    // A step this small is converged (the next one would be about step^2 times a modest
-    // factor); near the root it may not even move s, so test it before the bracket.
-    if (std::fabs(step) <= 0x1p-40) {
-      s = std::clamp(ns, sl, sr);
-      break;
-    }
-    s = ns > sl && ns < sr ? ns : 0.5 * (sl + sr);
-    if (sr - sl <= 0x1p-52) break;
-  }
-  slope = d / (y - x);
-  return x + s * (y - x);
-}
-
 // The smallest power of two >= x, for x in [2^-1000, 2^1000] (exponent bits, no libm call).
 inline double pow2_at_least(double x) {
   const double p = std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) & 0x7ff0000000000000ull);

@@ -70,13 +70,14 @@ Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi)
 
 
 // Shortcut of the bisection on a piece P where the cubic certainly changes sign and nothing
-// else is decided: locate the sign change (floating-point bisection on f; any estimate is
-// sound), take the window W of width 16 h (h = 2^-max_depth, W on the grid of h, so every
-// bound used below is exact in T and 1 - lo, 1 - hi are exact) around it, and prove with
-// rigorous bounds (the polynomials restricted from the root piece) that the cubic is
-// certainly nonzero (beyond d |n|) on P left and right of W: no contact there. Then W, with
-// every polynomial restricted to it, replaces P; it lies where P would have been bisected
-// to after about max_depth - 4 levels. False (nothing changed) when the proof fails.
+// else is decided: locate the sign change (safeguarded Newton on f, root_estimate; any
+// estimate is sound), take the window W of width 16 h around it (h = 2^-max_depth, W on the
+// grid of h, so every bound used below is exact in T and 1 - lo, 1 - hi are exact), and
+// prove with rigorous bounds (the polynomials restricted from the root piece) that the
+// cubic is certainly nonzero (beyond d |n|) on P left and right of W: no contact there.
+// Then W, with every polynomial restricted to it, replaces P; it lies where P would have
+// been bisected to after about max_depth - 4 levels. False (nothing changed) when the proof
+// fails.
 template <class T>
 bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_depth, Piece<T>& W) {
   const T c0 = P.f.c[0], c3 = P.f.c[3];
@@ -84,16 +85,8 @@ bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_de
   const T h = std::ldexp(T(1), -max_depth);
   const T width = P.hi - P.lo;
   if (width <= std::ldexp(T(1), 6 - max_depth)) return false;
-  const bool neg0 = c0 < 0;
-  T sl = 0, sr = 1;
-  for (int it = 0; it < 100 && (sr - sl) * width > h; ++it) {
-    const T sm = (sl + sr) / 2;
-    if ((eval_at(P.f, sm) < 0) == neg0)
-      sl = sm;
-    else
-      sr = sm;
-  }
-  const T ts = P.lo + (sl + sr) / 2 * width;
+  T slope;
+  const T ts = root_estimate(P.f, P.lo, P.hi, slope);
   // Window half-widths 8 h, 256 h, 8192 h: the uncertainty of the sign change may be wider
   // than a few h when the error bounds are large against the slope of the cubic.
   T a = 0, b = 0;

@@ -228,6 +228,17 @@ TEST(CcdFastPath, IsolationHelpers) {
   detail::restrict_to(g, 0.0, 0.25, 0.5, h);
   EXPECT_NEAR(detail::root_estimate(h, 0.25, 0.5, slope), 0.3, 1e-14);
   EXPECT_NEAR(slope, 3 * 0.09 - 2.6 * 0.3 - 1.7, 1e-12);
+  // The search's extended pass locates roots with the same estimate, in long double, on
+  // pieces as narrow as its windows: here [0.3 - 2^-40, 0.3 + 2^-41].
+  detail::Bern<3, long double> gl, hl;
+  for (int k = 0; k < 4; ++k) gl.c[k] = g.c[k];
+  const long double lo = 0.3L - 0x1p-40L, hi = 0.3L + 0x1p-41L;
+  detail::restrict_to(gl, 0.0L, lo, hi, hl);
+  long double slope_l = 0;
+  const long double rl = detail::root_estimate(hl, lo, hi, slope_l);
+  EXPECT_GT(rl, lo);
+  EXPECT_LT(rl, hi);
+  EXPECT_NEAR(static_cast<double>(rl - 0.3L), 0.0, 1e-15);
   // One de Casteljau step at s gives the two restrictions, within the stated bounds.
   B l, r, l2, r2;
   const double e = detail::split_at(g, 0x1p-40, 0.375, l, r);
