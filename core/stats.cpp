@@ -13,6 +13,7 @@ void add(CcdCounters& a, const CcdCounters& b) {
   a.fast_hits += b.fast_hits;
   a.fast_misses += b.fast_misses;
   a.pieces += b.pieces;
+  a.touches += b.touches;
 }
 }  // namespace
 

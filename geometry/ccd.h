@@ -55,6 +55,13 @@
 ///         once the cubic is proved (rigorous bounds, polynomials restricted from [0, 1])
 ///         certainly nonzero on the rest of the piece: about D - k levels of bisection are
 ///         skipped;
+///       - a piece still undecided at 2^-40 (or when the budget runs out) is first offered to
+///         an exact certificate of touching without crossing (geometry/ccd_touch.h): the
+///         vertex (VF) or an edge end (EE) and the segment it meets, with their six start and
+///         end points exactly coplanar (exact orient3d), the point crossing the segment's line
+///         strictly inside the segment within [lo, lo + 2^-20] (rigorous bounds on three
+///         quadratics). A certified touch is a contact at toi = the piece's start, with no
+///         long-double pass;
 ///       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
 ///         exhausts them is reported as a contact at the start of the current piece.
 ///
@@ -66,7 +73,9 @@
 ///    normal vanishes): only separating directions clear; exact contacts are reported;
 ///  - vertex on an edge, edge endpoint on an edge, touching exactly at t = 0 or t = 1,
 ///    tangential (double-root) contact: undecided to the finest piece (or the budget), then
-///    reported; touching exactly at t = 0 or t = 1: certified by the exact predicates;
+///    reported; touching exactly at t = 0 or t = 1: certified by the exact predicates; a
+///    vertex or edge end passing through a segment while the two move in one plane (grids
+///    folded along a grid line): certified at the finest piece, without the long-double pass;
 ///  - coordinates are rescaled by an exact power of two when the largest is outside
 ///    [2^-60, 2^60]; inputs that are not finite, or whose dynamic range exceeds about
 ///    2^1000, are reported as a contact at toi = 0 (conservative).
@@ -74,9 +83,10 @@
 /// Time of impact: never later than the first contact. For a certified (transversal)
 /// contact it lies within 2^-32 of the earliest root of the cubic in the certified piece,
 /// unless the cubic is numerically zero over a wider span (then the start of that span).
-/// For a reported undecided piece it is the start of that piece, the first time the tests
-/// could not clear (at most 2^-40 or 2^-56 before a contact in that piece, earlier when the
-/// primitives stay within rounding distance of each other or a budget ran out). For a proved
+/// For a reported undecided piece, and for a touch certified in one, it is the start of that
+/// piece, the first time the tests could not clear (at most 2^-40 or 2^-56 before a contact
+/// in that piece, at most 2^-20 before the certified touch, earlier when the primitives stay
+/// within rounding distance of each other or a budget ran out). For a proved
 /// touch at t = 1 it is 1 - 2^-40 (1 - 2^-24, 1 - 2^-12) or the start of the first piece
 /// undecided at depth 16. With min_distance d > 0 it is 0 for pairs within d at t = 0, else
 /// the start of the first piece that could not be cleared at distance d.
@@ -116,6 +126,7 @@ struct CcdCounters {
   std::uint64_t fast_hits = 0;        ///< contacts certified by the fast path (no search)
   std::uint64_t fast_misses = 0;      ///< pairs past the filters cleared by the fast path
   std::uint64_t pieces = 0;           ///< time pieces visited by the search (both passes)
+  std::uint64_t touches = 0;          ///< touching contacts certified exactly in a plane (search)
 };
 
 /// Vertex-face CCD. Returns true when the vertex may touch the triangle at some t in [0, 1];

@@ -5,6 +5,7 @@
 
 #include <mccd/geometry/ccd_exact.h>
 #include <mccd/geometry/ccd_stages.h>
+#include <mccd/geometry/ccd_touch.h>
 
 namespace mccd::detail {
 
@@ -126,6 +127,7 @@ inline bool may_touch_at(const Piece<double>& R, int ng, int end) {
 struct LongPass;
 inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
 inline bool touches_at_end(LongPass& lp);
+inline void count_touch(LongPass* lp);
 
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
@@ -189,6 +191,13 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
     }
     if (P.depth >= max_depth || budget <= 0) {
       if constexpr (std::is_same_v<T, double>) {
+        // A touch without crossing, certified exactly (geometry/ccd_touch.h): a contact in a
+        // window starting at lo, and every earlier piece is cleared, so toi = lo is not late.
+        if (touch_certified(S, P.lo, P.hi)) {
+          count_touch(long_pass);
+          toi = P.lo;
+          return Outcome::Hit;
+        }
         // Second opinion in extended precision on this piece only.
         if (long_pass && budget > 0) {
           const Outcome r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);
@@ -239,6 +248,10 @@ struct LongPass {
   int ng_d = 0;
   int touch_at_end = -1;
 };
+
+inline void count_touch(LongPass* lp) {
+  if (lp && lp->counters) ++lp->counters->touches;
+}
 
 inline bool touches_at_end(LongPass& lp) {
   if (lp.touch_at_end < 0) {

@@ -156,7 +156,8 @@ void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) 
   auto counters = [](const CcdCounters& c) {
     return nlohmann::json{{"queries", c.queries},       {"box_culled", c.box_culled}, {"coplanar_culled", c.coplanar_culled},
                           {"root_tests", c.root_tests}, {"fast_hits", c.fast_hits},   {"fast_misses", c.fast_misses},
-                          {"fallbacks", c.fallbacks},   {"pieces", c.pieces},         {"hits", c.hits}};
+                          {"fallbacks", c.fallbacks},   {"pieces", c.pieces},         {"hits", c.hits},
+                          {"touches", c.touches}};
   };
   nlohmann::json j = {
       {"frame", step},

@@ -37,7 +37,7 @@ std::vector<std::pair<std::string, std::uint64_t>> counts(const StepStats& s) {
     for (const auto& [name, value] : {std::pair{"queries", c->queries}, std::pair{"box_culled", c->box_culled},
                                       std::pair{"coplanar_culled", c->coplanar_culled},
                                       std::pair{"root_tests", c->root_tests}, std::pair{"fallbacks", c->fallbacks},
-                                      std::pair{"hits", c->hits}})
+                                      std::pair{"hits", c->hits}, std::pair{"touches", c->touches}})
       out.emplace_back(std::string(kind) + "_ccd." + name, value);
   return out;
 }

@@ -1,0 +1,133 @@
+#pragma once
+/// @file Internal: an exact certificate for contacts that touch without crossing, which no
+/// sign of the cubic or of the inside functions can certify in floating point: a vertex that
+/// passes exactly through an edge of the face, an edge end that passes exactly through the
+/// other edge. They arise when the primitives move in one plane, as on grids folded along a
+/// grid line. The search (geometry/ccd_search.h) tries it on the piece where it would
+/// otherwise report an undecided contact or start the long-double pass.
+///
+/// A point p(t) touches the open segment (a(t), b(t)) at some t in the window [lo, hi] when:
+///  1. the six points p, a, b at t = 0 and t = 1 lie in one plane: three of them (one instant)
+///     are certainly not collinear, n = (b - a) x (p - a) having a component n_k beyond its
+///     error bound, and the other three are exactly coplanar with them (exact_orient3d of
+///     geometry/ccd_exact.h, after a floating-point filter). Then p(t), a(t), b(t) lie in that
+///     plane for every t, w(t) = (b - a)(t) x (p - a)(t) is parallel to n, and since n_k != 0,
+///     w_k(t) = 0 exactly when w(t) = 0;
+///  2. the quadratic w_k (Bernstein form from the difference vectors, restricted to the window
+///     with rigorous bounds) has end values of certain opposite signs: w vanishes at some t*
+///     inside the window;
+///  3. r(t) = (p - a) . (b - a) and r'(t) = (b - p) . (b - a) are certainly positive over the
+///     window. At t*, p - a = lambda (b - a) (w = 0 and b != a), and r, r' > 0 give
+///     0 < lambda < 1: p lies strictly inside the segment.
+/// For a vertex-face pair the segment is an edge of the face, so the vertex touches the face;
+/// for an edge-edge pair it is the other edge, so the edges meet. A certificate proves a
+/// contact inside the window and nothing else; failing to find one proves nothing.
+///
+/// Error bounds (u = 2^-53; coordinates scaled into [2^-60, 2^60] by `load`): every value below
+/// is a sum of products of rounded differences of input coordinates, with at most 6 roundings
+/// along any path, so it lies within gamma_6 < 6.01 u times the same expression on absolute
+/// values; we take 8 u (normal components, 4 roundings), 12 u (the quadratics, 5) and 16 u
+/// (the determinant filter, 6), which also covers the rounding of the magnitudes, plus kTiny.
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include <mccd/geometry/ccd_exact.h>
+#include <mccd/geometry/ccd_setup.h>
+
+namespace mccd::detail {
+
+namespace touch {
+
+inline Vec3 vec(const V3<double>& v) { return Vec3(v.x, v.y, v.z); }
+
+// The axis k of the largest component of (b - a) x (p - a) that is certainly nonzero, or -1.
+inline int normal_axis(const V3<double>& a, const V3<double>& b, const V3<double>& p) {
+  const V3<double> D = b - a, E = p - a;
+  const V3<double> n = cross(D, E), m = across(vabs(D), vabs(E));
+  const double nv[3] = {n.x, n.y, n.z}, mv[3] = {m.x, m.y, m.z};
+  int axis = -1;
+  double best = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double v = std::fabs(nv[c]);
+    if (v > 8 * kU * mv[c] + kTiny && v > best) axis = c, best = v;
+  }
+  return axis;
+}
+
+// x lies exactly in the plane through a, b, p (not collinear).
+inline bool in_plane(const V3<double>& a, const V3<double>& b, const V3<double>& p, const V3<double>& x) {
+  const V3<double> B = b - a, C = p - a, D = x - a;
+  const double det = dot(B, cross(C, D));
+  if (std::fabs(det) > 16 * kU * absdot(B, across(vabs(C), vabs(D))) + kTiny) return false;
+  return exact_orient3d(vec(a), vec(b), vec(p), vec(x)) == 0;
+}
+
+// The quadratic x(t) . y(t) for linear x, y (values at t = 0 and 1), and its magnitude.
+inline Bern<2> quad_dot(const V3<double>& x0, const V3<double>& x1, const V3<double>& y0, const V3<double>& y1) {
+  return {{dot(x0, y0), (dot(x0, y1) + dot(x1, y0)) * 0.5, dot(x1, y1)}};
+}
+inline Bern<2> quad_absdot(const V3<double>& x0, const V3<double>& x1, const V3<double>& y0, const V3<double>& y1) {
+  return {{absdot(x0, y0), (absdot(x0, y1) + absdot(x1, y0)) * 0.5, absdot(x1, y1)}};
+}
+
+inline double component(const V3<double>& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
+
+// Point i of the query against the segment (j, k), over the windows [lo, hi_m].
+inline bool point_touches_segment(const Setup<double>& S, int i, int j, int k, const double* his, int nhi,
+                                  double lo) {
+  // 1. The plane, from the instant where the three points are certainly not collinear.
+  const V3<double> *base = S.s, *other = S.e;
+  int axis = normal_axis(base[j], base[k], base[i]);
+  if (axis < 0) {
+    std::swap(base, other);
+    axis = normal_axis(base[j], base[k], base[i]);
+    if (axis < 0) return false;
+  }
+  for (const int x : {i, j, k})
+    if (!in_plane(base[j], base[k], base[i], other[x])) return false;
+  // 2-3. The quadratics w_k, r and r' from the difference vectors at t = 0 and t = 1.
+  const V3<double> D0 = S.s[k] - S.s[j], D1 = S.e[k] - S.e[j];  // b - a
+  const V3<double> E0 = S.s[i] - S.s[j], E1 = S.e[i] - S.e[j];  // p - a
+  const V3<double> F0 = S.s[k] - S.s[i], F1 = S.e[k] - S.e[i];  // b - p
+  const QuadV<double> w = quad_cross(D0, D1, E0, E1), wm = quad_across(D0, D1, E0, E1);
+  const Bern<2> q{{component(w.q[0], axis), component(w.q[1], axis), component(w.q[2], axis)}};
+  const Bern<2> qm{{component(wm.q[0], axis), component(wm.q[1], axis), component(wm.q[2], axis)}};
+  const Bern<2> r = quad_dot(E0, E1, D0, D1), r2 = quad_dot(F0, F1, D0, D1);
+  const double eq = error_bound(qm, 12), er = error_bound(quad_absdot(E0, E1, D0, D1), 12),
+               er2 = error_bound(quad_absdot(F0, F1, D0, D1), 12);
+  for (int m = 0; m < nhi; ++m) {
+    const double hi = his[m];
+    Bern<2> qw, rw, r2w;
+    const double e = restrict_to(q, eq, lo, hi, qw);
+    if (!((qw.c[0] > e && qw.c[2] < -e) || (qw.c[0] < -e && qw.c[2] > e))) continue;
+    if (definite_sign(rw, restrict_to(r, er, lo, hi, rw)) > 0 &&
+        definite_sign(r2w, restrict_to(r2, er2, lo, hi, r2w)) > 0)
+      return true;
+  }
+  return false;
+}
+
+}  // namespace touch
+
+/// A touching contact certified in a window starting at `lo` (a dyadic piece start on the grid
+/// of 2^-40, `hi` its end): the piece itself, then [lo, lo + 2^-30] and [lo, lo + 2^-20]
+/// within [0, 1], for a touch just past the piece. Vertex-face: the vertex on an edge of the
+/// face; edge-edge: an end of either edge on the other edge.
+inline bool touch_certified(const Setup<double>& S, double lo, double hi) {
+  double his[3];
+  int n = 0;
+  his[n++] = hi;
+  for (const double w : {0x1p-30, 0x1p-20})
+    if (lo + w > his[n - 1] && lo + w <= 1) his[n++] = lo + w;
+  if (S.kind == CcdKind::VertexFace) {
+    for (const auto& c : {std::array<int, 3>{0, 1, 2}, {0, 2, 3}, {0, 3, 1}})
+      if (touch::point_touches_segment(S, c[0], c[1], c[2], his, n, lo)) return true;
+  } else {
+    for (const auto& c : {std::array<int, 3>{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}})
+      if (touch::point_touches_segment(S, c[0], c[1], c[2], his, n, lo)) return true;
+  }
+  return false;
+}
+
+}  // namespace mccd::detail
