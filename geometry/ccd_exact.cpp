@@ -207,9 +207,44 @@ inline int filt(double v, double mag, double k) {
 
 }  // namespace
 
+namespace {
+// det(b - a, c - a, d - a) in plain double arithmetic, with every operation checked to be
+// exact (its two_sum / two_prod error term zero): then the result is the exact value, as for
+// points on coarse grids (folded cloth meshes). False when some operation rounded. With the
+// coordinates in range (no underflow of products), the error terms themselves are exact.
+bool orient3d_if_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double& det) {
+  bool exact = true;
+  auto add = [&](double x, double y) {
+    double s, e;
+    two_sum(x, y, s, e);
+    exact = exact && e == 0;
+    return s;
+  };
+  auto mul = [&](double x, double y) {
+    double p, e;
+    two_prod(x, y, p, e);
+    exact = exact && e == 0;
+    return p;
+  };
+  double B[3], C[3], D[3];
+  for (int k = 0; k < 3; ++k) {
+    B[k] = add(b[k], -a[k]);
+    C[k] = add(c[k], -a[k]);
+    D[k] = add(d[k], -a[k]);
+  }
+  if (!exact) return false;
+  const double n0 = add(mul(C[1], D[2]), -mul(C[2], D[1]));
+  const double n1 = add(mul(C[2], D[0]), -mul(C[0], D[2]));
+  const double n2 = add(mul(C[0], D[1]), -mul(C[1], D[0]));
+  det = add(add(mul(B[0], n0), mul(B[1], n1)), mul(B[2], n2));
+  return exact;
+}
+}  // namespace
+
 int exact_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 pts[4] = {a, b, c, d};
   if (!in_range(pts, 4)) return 2;
+  if (double det; orient3d_if_exact(a, b, c, d, det)) return det > 0 ? 1 : (det < 0 ? -1 : 0);
   const V3E B = vdiff(b, a), C = vdiff(c, a), D = vdiff(d, a);
   const Exp det = vdot(B, vcross(C, D));
   if (!det.ok) return 2;

@@ -124,6 +124,12 @@ inline bool may_touch_at(const Piece<double>& R, int ng, int end) {
   return true;
 }
 
+// The long-double pass has no touch certificate (its pieces come from the double pass's).
+struct NoTouchCertificate {
+  template <class Setup>
+  explicit NoTouchCertificate(const Setup&) {}
+};
+
 struct LongPass;
 inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
 inline bool touches_at_end(LongPass& lp);
@@ -136,6 +142,7 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
   int top = 0;
   stack[top++] = start;
   const bool use_inside = !(S.d > 0);
+  [[maybe_unused]] std::conditional_t<std::is_same_v<T, double>, TouchCertificate, NoTouchCertificate> touch(S);
   while (top > 0) {
     const Piece<T> P = stack[--top];
     --budget;
@@ -189,15 +196,18 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
         return Outcome::Hit;
       }
     }
+    if constexpr (std::is_same_v<T, double>) {
+      // A touch without crossing, certified exactly (geometry/ccd_touch.h), tried from depth
+      // D - 4 (where a jump to the root lands): a contact in a window starting at lo, and
+      // every earlier piece is cleared, so toi = lo is not late.
+      if ((P.depth >= max_depth - 4 || budget <= 0) && touch.certify(P.lo, P.hi)) {
+        count_touch(long_pass);
+        toi = P.lo;
+        return Outcome::Hit;
+      }
+    }
     if (P.depth >= max_depth || budget <= 0) {
       if constexpr (std::is_same_v<T, double>) {
-        // A touch without crossing, certified exactly (geometry/ccd_touch.h): a contact in a
-        // window starting at lo, and every earlier piece is cleared, so toi = lo is not late.
-        if (touch_certified(S, P.lo, P.hi)) {
-          count_touch(long_pass);
-          toi = P.lo;
-          return Outcome::Hit;
-        }
         // Second opinion in extended precision on this piece only.
         if (long_pass && budget > 0) {
           const Outcome r = resolve_long(*long_pass, P.lo, P.hi, P.depth, toi);

@@ -73,61 +73,87 @@ inline Bern<2> quad_absdot(const V3<double>& x0, const V3<double>& x1, const V3<
 
 inline double component(const V3<double>& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 
-// Point i of the query against the segment (j, k), over the windows [lo, hi_m].
-inline bool point_touches_segment(const Setup<double>& S, int i, int j, int k, const double* his, int nhi,
-                                  double lo) {
-  // 1. The plane, from the instant where the three points are certainly not collinear.
-  const V3<double> *base = S.s, *other = S.e;
-  int axis = normal_axis(base[j], base[k], base[i]);
-  if (axis < 0) {
-    std::swap(base, other);
-    axis = normal_axis(base[j], base[k], base[i]);
-    if (axis < 0) return false;
+// Point i of the query against the segment (j, k): the exact part (the plane) once, then the
+// quadratics w_k, r, r' with their error bounds, ready for any window.
+struct PointSegment {
+  bool planar = false;
+  Bern<2> q, r, r2;
+  double eq = 0, er = 0, er2 = 0;
+
+  void prepare(const Setup<double>& S, int i, int j, int k) {
+    // 1. The plane, from the instant where the three points are certainly not collinear.
+    const V3<double>*base = S.s, *other = S.e;
+    int axis = normal_axis(base[j], base[k], base[i]);
+    if (axis < 0) {
+      std::swap(base, other);
+      axis = normal_axis(base[j], base[k], base[i]);
+      if (axis < 0) return;
+    }
+    for (const int x : {i, j, k})
+      if (!in_plane(base[j], base[k], base[i], other[x])) return;
+    planar = true;
+    // 2-3. The quadratics from the difference vectors at t = 0 and t = 1.
+    const V3<double> D0 = S.s[k] - S.s[j], D1 = S.e[k] - S.e[j];  // b - a
+    const V3<double> E0 = S.s[i] - S.s[j], E1 = S.e[i] - S.e[j];  // p - a
+    const V3<double> F0 = S.s[k] - S.s[i], F1 = S.e[k] - S.e[i];  // b - p
+    const QuadV<double> w = quad_cross(D0, D1, E0, E1), wm = quad_across(D0, D1, E0, E1);
+    q = {{component(w.q[0], axis), component(w.q[1], axis), component(w.q[2], axis)}};
+    const Bern<2> qm{{component(wm.q[0], axis), component(wm.q[1], axis), component(wm.q[2], axis)}};
+    r = quad_dot(E0, E1, D0, D1);
+    r2 = quad_dot(F0, F1, D0, D1);
+    eq = error_bound(qm, 12);
+    er = error_bound(quad_absdot(E0, E1, D0, D1), 12);
+    er2 = error_bound(quad_absdot(F0, F1, D0, D1), 12);
   }
-  for (const int x : {i, j, k})
-    if (!in_plane(base[j], base[k], base[i], other[x])) return false;
-  // 2-3. The quadratics w_k, r and r' from the difference vectors at t = 0 and t = 1.
-  const V3<double> D0 = S.s[k] - S.s[j], D1 = S.e[k] - S.e[j];  // b - a
-  const V3<double> E0 = S.s[i] - S.s[j], E1 = S.e[i] - S.e[j];  // p - a
-  const V3<double> F0 = S.s[k] - S.s[i], F1 = S.e[k] - S.e[i];  // b - p
-  const QuadV<double> w = quad_cross(D0, D1, E0, E1), wm = quad_across(D0, D1, E0, E1);
-  const Bern<2> q{{component(w.q[0], axis), component(w.q[1], axis), component(w.q[2], axis)}};
-  const Bern<2> qm{{component(wm.q[0], axis), component(wm.q[1], axis), component(wm.q[2], axis)}};
-  const Bern<2> r = quad_dot(E0, E1, D0, D1), r2 = quad_dot(F0, F1, D0, D1);
-  const double eq = error_bound(qm, 12), er = error_bound(quad_absdot(E0, E1, D0, D1), 12),
-               er2 = error_bound(quad_absdot(F0, F1, D0, D1), 12);
-  for (int m = 0; m < nhi; ++m) {
-    const double hi = his[m];
+
+  // The touch within [lo, hi] (dyadic, so 1 - lo and 1 - hi are exact).
+  bool touches(double lo, double hi) const {
+    if (!planar) return false;
     Bern<2> qw, rw, r2w;
     const double e = restrict_to(q, eq, lo, hi, qw);
-    if (!((qw.c[0] > e && qw.c[2] < -e) || (qw.c[0] < -e && qw.c[2] > e))) continue;
-    if (definite_sign(rw, restrict_to(r, er, lo, hi, rw)) > 0 &&
-        definite_sign(r2w, restrict_to(r2, er2, lo, hi, r2w)) > 0)
-      return true;
+    if (!((qw.c[0] > e && qw.c[2] < -e) || (qw.c[0] < -e && qw.c[2] > e))) return false;
+    return definite_sign(rw, restrict_to(r, er, lo, hi, rw)) > 0 &&
+           definite_sign(r2w, restrict_to(r2, er2, lo, hi, r2w)) > 0;
   }
-  return false;
-}
+};
 
 }  // namespace touch
 
-/// A touching contact certified in a window starting at `lo` (a dyadic piece start on the grid
-/// of 2^-40, `hi` its end): the piece itself, then [lo, lo + 2^-30] and [lo, lo + 2^-20]
-/// within [0, 1], for a touch just past the piece. Vertex-face: the vertex on an edge of the
-/// face; edge-edge: an end of either edge on the other edge.
-inline bool touch_certified(const Setup<double>& S, double lo, double hi) {
-  double his[3];
-  int n = 0;
-  his[n++] = hi;
-  for (const double w : {0x1p-30, 0x1p-20})
-    if (lo + w > his[n - 1] && lo + w <= 1) his[n++] = lo + w;
-  if (S.kind == CcdKind::VertexFace) {
-    for (const auto& c : {std::array<int, 3>{0, 1, 2}, {0, 2, 3}, {0, 3, 1}})
-      if (touch::point_touches_segment(S, c[0], c[1], c[2], his, n, lo)) return true;
-  } else {
-    for (const auto& c : {std::array<int, 3>{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}})
-      if (touch::point_touches_segment(S, c[0], c[1], c[2], his, n, lo)) return true;
+/// The certificate for one query, its exact part computed on first use. Vertex-face: the
+/// vertex on an edge of the face; edge-edge: an end of either edge on the other edge.
+class TouchCertificate {
+ public:
+  explicit TouchCertificate(const Setup<double>& S) : S_(S) {}
+
+  /// A touch certified in a window starting at `lo` (a dyadic piece start on the grid of
+  /// 2^-40, `hi` its end): the piece itself, then [lo, lo + 2^-30] and [lo, lo + 2^-20] within
+  /// [0, 1], for a touch just past the piece.
+  bool certify(double lo, double hi) {
+    double his[3];
+    int n = 0;
+    his[n++] = hi;
+    for (const double w : {0x1p-30, 0x1p-20})
+      if (lo + w > his[n - 1] && lo + w <= 1) his[n++] = lo + w;
+    static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+    static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
+    const bool vf = S_.kind == CcdKind::VertexFace;
+    for (int c = 0; c < (vf ? 3 : 4); ++c) {
+      touch::PointSegment& ps = pairs_[c];
+      if (!(prepared_ >> c & 1u)) {  // the exact part on first use, one pair at a time
+        const int* ijk = vf ? kVF[c] : kEE[c];
+        ps.prepare(S_, ijk[0], ijk[1], ijk[2]);
+        prepared_ |= 1u << c;
+      }
+      for (int m = 0; m < n && ps.planar; ++m)
+        if (ps.touches(lo, his[m])) return true;
+    }
+    return false;
   }
-  return false;
-}
+
+ private:
+  const Setup<double>& S_;
+  unsigned prepared_ = 0;  ///< bit c: pairs_[c] prepared
+  touch::PointSegment pairs_[4];
+};
 
 }  // namespace mccd::detail
