@@ -208,36 +208,40 @@ inline int filt(double v, double mag, double k) {
 }  // namespace
 
 namespace {
-// det(b - a, c - a, d - a) in plain double arithmetic, with every operation checked to be
-// exact (its two_sum / two_prod error term zero): then the result is the exact value, as for
-// points on coarse grids (folded cloth meshes). False when some operation rounded. With the
-// coordinates in range (no underflow of products), the error terms themselves are exact.
+// det(b - a, c - a, d - a) = sum of the six terms e_ijk (b - a)_i (c - a)_j (d - a)_k in plain
+// double arithmetic, when that is exact: a term with a zero difference is exactly zero (a
+// difference of two doubles rounds to zero only when they are equal); every other term needs
+// its three differences exact and its two products exact, and the sum must be exact (each
+// two_sum / two_prod error term zero). Then the result is the exact value, as for points on
+// coarse grids, or points that share a coordinate (a cloth folded about an axis: every term
+// vanishes). False when some needed operation rounded. With the coordinates in range (no
+// underflow of products), the error terms themselves are exact.
 bool orient3d_if_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double& det) {
-  bool exact = true;
-  auto add = [&](double x, double y) {
-    double s, e;
-    two_sum(x, y, s, e);
-    exact = exact && e == 0;
-    return s;
-  };
-  auto mul = [&](double x, double y) {
-    double p, e;
-    two_prod(x, y, p, e);
-    exact = exact && e == 0;
-    return p;
-  };
-  double B[3], C[3], D[3];
-  for (int k = 0; k < 3; ++k) {
-    B[k] = add(b[k], -a[k]);
-    C[k] = add(c[k], -a[k]);
-    D[k] = add(d[k], -a[k]);
+  const Vec3* rows[3] = {&b, &c, &d};
+  double v[3][3];
+  bool ok[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) {
+      double e;
+      two_sum((*rows[r])[k], -a[k], v[r][k], e);
+      ok[r][k] = e == 0;
+    }
+  static constexpr int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {1, 0, 2}, {2, 1, 0}};
+  double acc = 0;
+  for (int t = 0; t < 6; ++t) {
+    const int i = kPerm[t][0], j = kPerm[t][1], k = kPerm[t][2];
+    const double x = v[0][i], y = v[1][j], z = v[2][k];
+    if (x == 0 || y == 0 || z == 0) continue;
+    if (!(ok[0][i] && ok[1][j] && ok[2][k])) return false;
+    double p, q, e1, e2, s, e3;
+    two_prod(x, y, p, e1);
+    two_prod(p, z, q, e2);
+    two_sum(acc, t < 3 ? q : -q, s, e3);
+    if (e1 != 0 || e2 != 0 || e3 != 0) return false;
+    acc = s;
   }
-  if (!exact) return false;
-  const double n0 = add(mul(C[1], D[2]), -mul(C[2], D[1]));
-  const double n1 = add(mul(C[2], D[0]), -mul(C[0], D[2]));
-  const double n2 = add(mul(C[0], D[1]), -mul(C[1], D[0]));
-  det = add(add(mul(B[0], n0), mul(B[1], n1)), mul(B[2], n2));
-  return exact;
+  det = acc;
+  return true;
 }
 }  // namespace
 

@@ -71,6 +71,24 @@ TEST(CcdExactPredicates, Orient3dMatchesGmp) {
     zeros += e == 0;
   }
   EXPECT_GT(zeros, 100);  // exact coplanarity is exercised
+  // Points sharing one coordinate (a plane x = c, y = c or z = c), the others arbitrary: the
+  // determinant's every term has a zero factor; with one point moved off the plane by an ulp,
+  // not (then the plain evaluation rounds and the expansions decide).
+  int shared_zeros = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const int axis = i % 3;
+    const double s = std::ldexp(1.0, ex(rng)), c = u(rng) * s;
+    Vec3 p[4];
+    for (Vec3& v : p) {
+      v = Vec3(u(rng), u(rng), u(rng)) * s;
+      v[axis] = c;
+    }
+    if (i % 2) p[i % 4] = bump(p[i % 4], axis, (i / 2) % 2 ? 1 : -1);
+    const int e = detail::exact_orient3d(p[0], p[1], p[2], p[3]);
+    ASSERT_EQ(e, gmp_orient3d(p[0], p[1], p[2], p[3])) << "shared-coordinate case " << i;
+    shared_zeros += e == 0;
+  }
+  EXPECT_EQ(shared_zeros, 1500);
   // Out of the exact range: unknown.
   EXPECT_EQ(detail::exact_orient3d(Vec3(0x1p-200, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), 2);
 }
