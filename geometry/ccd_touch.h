@@ -3,8 +3,8 @@
 /// sign of the cubic or of the inside functions can certify in floating point: a vertex that
 /// passes exactly through an edge of the face, an edge end that passes exactly through the
 /// other edge. They arise when the primitives move in one plane, as on grids folded along a
-/// grid line. The search (geometry/ccd_search.h) tries it on the piece where it would
-/// otherwise report an undecided contact or start the long-double pass.
+/// grid line. The search (geometry/ccd_search.h) tries it on pieces of 2^-36 and finer, before
+/// it would report an undecided contact or start the long-double pass.
 ///
 /// A point p(t) touches the open segment (a(t), b(t)) at some t in the window [lo, hi] when:
 ///  1. the six points p, a, b at t = 0 and t = 1 lie in one plane: three of them (one instant)
