@@ -144,7 +144,9 @@ TEST(CcdTouchCertificate, NeverCertifiesAPointBesideTheEdge) {
       for (std::uint64_t s = 0; s < 100; ++s) check(vf, s, true, t, off);
     std::cout << "[ beside " << (vf ? "VF" : "EE") << "] " << t.cases << " cases, " << t.truths << " contacts, "
               << t.certified << " certified\n";
-    if (vf) EXPECT_EQ(t.certified, 0);
+    if (vf) {
+      EXPECT_EQ(t.certified, 0);
+    }
     EXPECT_GT(t.cases - t.truths, 0);
   }
 }
