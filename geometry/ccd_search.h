@@ -142,7 +142,7 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
   int top = 0;
   stack[top++] = start;
   const bool use_inside = !(S.d > 0);
-  [[maybe_unused]] std::conditional_t<std::is_same_v<T, double>, TouchCertificate, NoTouchCertificate> touch(S);
+  [[maybe_unused]] std::conditional_t<std::is_same_v<T, double>, TouchCertificate, NoTouchCertificate> certificate(S);
   while (top > 0) {
     const Piece<T> P = stack[--top];
     --budget;
@@ -200,7 +200,7 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       // A touch without crossing, certified exactly (geometry/ccd_touch.h), tried from depth
       // D - 4 (where a jump to the root lands): a contact in a window starting at lo, and
       // every earlier piece is cleared, so toi = lo is not late.
-      if ((P.depth >= max_depth - 4 || budget <= 0) && touch.certify(P.lo, P.hi)) {
+      if ((P.depth >= max_depth - 4 || budget <= 0) && certificate.certify(P.lo, P.hi)) {
         count_touch(long_pass);
         toi = P.lo;
         return Outcome::Hit;
