@@ -28,7 +28,6 @@
 /// along any path, so it lies within gamma_6 < 6.01 u times the same expression on absolute
 /// values; we take 8 u (normal components, 4 roundings), 12 u (the quadratics, 5) and 16 u
 /// (the determinant filter, 6), which also covers the rounding of the magnitudes, plus kTiny.
-#include <array>
 #include <cmath>
 #include <utility>
 

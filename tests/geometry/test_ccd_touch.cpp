@@ -97,15 +97,20 @@ void check(bool vf, std::uint64_t seed, bool inside, Tally& t, double offset = 0
   }
 }
 
+// 400 queries with the point crossing inside the segment, 400 outside, each checked.
+void run_families(bool vf, Tally& in, Tally& out) {
+  for (std::uint64_t s = 0; s < 400; ++s) check(vf, s, true, in);
+  for (std::uint64_t s = 1000; s < 1400; ++s) check(vf, s, false, out);
+  std::cout << "[ touch " << (vf ? "VF" : "EE") << "] inside: " << in.cases << " cases, " << in.truths
+            << " contacts, " << in.certified << " certified, " << in.long_pass << " to the long-double pass; outside: "
+            << out.cases << " cases, " << out.truths << " contacts, " << out.certified << " certified\n";
+}
+
 }  // namespace
 
 TEST(CcdTouchCertificate, VertexThroughAnEdgeOfTheFace) {
   Tally in, out;
-  for (std::uint64_t s = 0; s < 400; ++s) check(true, s, true, in);
-  for (std::uint64_t s = 1000; s < 1400; ++s) check(true, s, false, out);
-  std::cout << "[ touch VF] inside: " << in.cases << " cases, " << in.truths << " contacts, " << in.certified
-            << " certified, " << in.long_pass << " to the long-double pass; outside: " << out.cases << " cases, "
-            << out.truths << " contacts, " << out.certified << " certified\n";
+  run_families(true, in, out);
   // The vertex reaches the edge's interior at tc by construction: a contact, every time.
   EXPECT_EQ(in.truths, in.cases);
   EXPECT_GE(in.certified, in.cases * 9 / 10);
@@ -118,11 +123,7 @@ TEST(CcdTouchCertificate, VertexThroughAnEdgeOfTheFace) {
 
 TEST(CcdTouchCertificate, EdgeEndThroughTheOtherEdge) {
   Tally in, out;
-  for (std::uint64_t s = 0; s < 400; ++s) check(false, s, true, in);
-  for (std::uint64_t s = 1000; s < 1400; ++s) check(false, s, false, out);
-  std::cout << "[ touch EE] inside: " << in.cases << " cases, " << in.truths << " contacts, " << in.certified
-            << " certified, " << in.long_pass << " to the long-double pass; outside: " << out.cases << " cases, "
-            << out.truths << " contacts, " << out.certified << " certified\n";
+  run_families(false, in, out);
   // Edges in one plane often touch already at t = 0 or stay crossed through t = 1: the exact
   // predicates at the ends decide those first; the certificate most of the others.
   EXPECT_EQ(in.truths, in.cases);
