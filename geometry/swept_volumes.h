@@ -183,11 +183,15 @@ class SweptVolumes {
     for (int k = 0; k < 5; ++k) BV::project(k == 4 ? b : Vec3(a + (0.25 * k) * step), pr[k]);
     const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
     Quarters& q = vertex_quarters_[slot];
-    for (int s = 0; s < S; ++s)
+    for (int s = 0; s < S; ++s) {
+      double lo[4], hi[4];
       for (int k = 0; k < 4; ++k) {
-        q.lo[s][k] = float_below(std::min(pr[k][s], pr[k + 1][s]) - margin);
-        q.hi[s][k] = float_above(std::max(pr[k][s], pr[k + 1][s]) + margin);
+        lo[k] = std::min(pr[k][s], pr[k + 1][s]) - margin;
+        hi[k] = std::max(pr[k][s], pr[k + 1][s]) + margin;
       }
+      floats_below(lo, q.lo[s]);
+      floats_above(hi, q.hi[s]);
+    }
     vertex_[slot] = q.whole();
   }
 
