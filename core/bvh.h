@@ -72,23 +72,24 @@ class BvhTopology {
   unsigned max_leaf_ = 1;
 };
 
-/// Bottom-up refit of `volumes` (one per node) from `triangle_volume(t)`, serially over the
-/// node range [begin, end) of one subtree, deepest nodes first. Children are always after
-/// their parent in the array, so a reverse sweep sees children before parents.
-template <class Volumes, class TriangleVolume>
+/// Bottom-up refit of `volumes` (one per node) from `leaf_volume(node)` at the leaves, serially
+/// over the node range [begin, end) of one subtree, deepest nodes first. Children are always
+/// after their parent in the array, so a reverse sweep sees children before parents.
+template <class Volumes, class LeafVolume>
 void refit_range(const BvhTopology& bvh, Volumes& volumes, std::uint32_t begin, std::uint32_t end,
-                 const TriangleVolume& triangle_volume) {
+                 const LeafVolume& leaf_volume) {
   using BV = typename Volumes::value_type;
-  for (std::uint32_t i = end; i-- > begin;) {
-    if (bvh.leaf(i)) {
-      const std::uint32_t* t = bvh.leaf_triangles(i);
-      BV v = triangle_volume(t[0]);
-      for (std::uint32_t k = 1; k < bvh.leaf_count(i); ++k) v.merge(triangle_volume(t[k]));
-      volumes[i] = v;
-    } else {
-      volumes[i] = BV::merged(volumes[bvh.left(i)], volumes[bvh.right(i)]);
-    }
-  }
+  for (std::uint32_t i = end; i-- > begin;)
+    volumes[i] = bvh.leaf(i) ? BV(leaf_volume(i)) : BV::merged(volumes[bvh.left(i)], volumes[bvh.right(i)]);
+}
+
+/// The merge of `triangle_volume(t)` over leaf `node`'s triangles (a leaf volume for refit_range).
+template <class TriangleVolume>
+auto triangles_volume(const BvhTopology& bvh, std::uint32_t node, const TriangleVolume& triangle_volume) {
+  const std::uint32_t* t = bvh.leaf_triangles(node);
+  auto v = triangle_volume(t[0]);
+  for (std::uint32_t k = 1; k < bvh.leaf_count(node); ++k) v.merge(triangle_volume(t[k]));
+  return v;
 }
 
 }  // namespace mccd

@@ -1,5 +1,7 @@
 #include <mccd/core/leaf_owners.h>
 
+#include <algorithm>
+
 #include <mccd/parallel/volume_update.h>
 
 namespace mccd::detail {
@@ -57,6 +59,19 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
     }
   });
+  // Each leaf's corners that it does not own, once each.
+  foreign_begin_.assign(bvh.size() + 1, 0);
+  for (std::uint32_t i = 0; i < bvh.size(); ++i) {
+    foreign_begin_[i] = static_cast<std::uint32_t>(foreign_.size());
+    if (!bvh.leaf(i)) continue;
+    const std::size_t first = foreign_.size();
+    for (std::uint32_t s = bvh.leaf_first(i); s != bvh.leaf_first(i) + bvh.leaf_count(i); ++s)
+      for (std::uint32_t c : face_corner_slots_[s])
+        if (c < vertex_begin_[i] || c >= vertex_begin_[i + 1]) foreign_.push_back(c);
+    std::sort(foreign_.begin() + first, foreign_.end());
+    foreign_.erase(std::unique(foreign_.begin() + first, foreign_.end()), foreign_.end());
+  }
+  foreign_begin_[bvh.size()] = static_cast<std::uint32_t>(foreign_.size());
 }
 
 }  // namespace mccd::detail

@@ -37,6 +37,11 @@ class LeafOwnership {
   std::uint32_t edge_begin(std::uint32_t node) const { return edge_begin_[node]; }
   std::uint32_t vertex(std::uint32_t slot) const { return vertices_[slot]; }
   std::uint32_t edge(std::uint32_t slot) const { return edges_[slot]; }
+  /// The corners of leaf `node`'s triangles that other leaves own, as vertex slots
+  /// [foreign_begin(node), foreign_begin(node + 1)) of foreign_corner(i), each once: with the
+  /// leaf's own vertices, every corner of the leaf exactly once (what its refit merges).
+  std::uint32_t foreign_begin(std::uint32_t node) const { return foreign_begin_[node]; }
+  std::uint32_t foreign_corner(std::uint32_t i) const { return foreign_[i]; }
   /// The vertex ids of the edge in `slot`.
   const Edge& edge_ends(std::uint32_t slot) const { return edge_ends_[slot]; }
   /// The corners of the face in face slot `slot` (the BVH's triangle order): vertex ids, and
@@ -51,6 +56,7 @@ class LeafOwnership {
  private:
   std::vector<std::uint32_t> vertex_begin_, vertices_;  ///< CSR over BVH nodes
   std::vector<std::uint32_t> edge_begin_, edges_;
+  std::vector<std::uint32_t> foreign_begin_, foreign_;  ///< CSR over BVH nodes, vertex slots
   // Copies in leaf order of what leaf pairs read, so that they read it together.
   LargeVector<Edge> edge_ends_;                               ///< per edge slot
   LargeVector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot

@@ -54,7 +54,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
   if (any_static) {
     const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
     update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
-    refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t f) { return swept_.face_quarters(topo.faces()[f]); });
+    refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
                                                          [this] { search(); }, [this] { self_pairs(); },
@@ -94,10 +94,19 @@ void Stepper<BV>::update() {
 template <BoundingVolume BV>
 void Stepper<BV>::refit() {
   const auto t = Clock::now();
-  const std::vector<Triangle>& faces = scene_.topology().faces();
-  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t f) { return swept_.face_quarters(faces[f]); });
+  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
   result_.stats.t_refit = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+typename Stepper<BV>::NodeVolume Stepper<BV>::leaf_volume(std::uint32_t node) const {
+  NodeVolume v = NodeVolume::empty();
+  for (std::uint32_t s = owners_.vertex_begin(node); s != owners_.vertex_begin(node + 1); ++s)
+    v.merge(swept_.vertex_quarters_at(s));
+  for (std::uint32_t i = owners_.foreign_begin(node); i != owners_.foreign_begin(node + 1); ++i)
+    v.merge(swept_.vertex_quarters_at(owners_.foreign_corner(i)));
+  return v;
 }
 
 template <BoundingVolume BV>

@@ -67,6 +67,8 @@ class Stepper {
 
   void update();
   void refit();
+  /// A leaf's quarter volumes: the merge of its corners' (owned, then the others'), each once.
+  NodeVolume leaf_volume(std::uint32_t node) const;
   void search();
   void self_pairs();
   void join();

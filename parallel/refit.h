@@ -45,7 +45,7 @@ class RefitPlan {
     std::sort(top_.begin(), top_.end());  // depth-first order: parents first
   }
 
-  /// Refits `volumes` (one per node) from `leaf_volume(triangle)`.
+  /// Refits `volumes` (one per node) from `leaf_volume(leaf node)`.
   template <class Volumes, class LeafVolume>
   void run(const BvhTopology& bvh, Volumes& volumes, const LeafVolume& leaf_volume) const {
     using BV = typename Volumes::value_type;

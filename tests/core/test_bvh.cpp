@@ -60,11 +60,13 @@ TEST(Bvh, RefitContainsChildren) {
   for (auto& p : c) p = Vec3(U(rng), U(rng), U(rng));
   BvhTopology b(points(c), BvhBuild::Sah);
   std::vector<Kdop18> vol(b.size());
-  refit_range(b, vol, 0, std::uint32_t(b.size()), [&](std::uint32_t t) {
-    Kdop18 d = Kdop18::empty();
-    d.add_point(c[t]);
-    d.add_point(c[t] + Vec3(0.01, 0, 0));
-    return d;
+  refit_range(b, vol, 0, std::uint32_t(b.size()), [&](std::uint32_t node) {
+    return triangles_volume(b, node, [&](std::uint32_t t) {
+      Kdop18 d = Kdop18::empty();
+      d.add_point(c[t]);
+      d.add_point(c[t] + Vec3(0.01, 0, 0));
+      return d;
+    });
   });
   for (std::uint32_t i = 0; i < b.size(); ++i)
     if (!b.leaf(i))

@@ -1,0 +1,59 @@
+// The leaf rule's ownership (core/leaf_owners.h): every vertex and edge has exactly one owner
+// leaf, which holds a triangle around it, and each leaf's owned vertices plus its foreign
+// corners are exactly its triangles' corners, each once (what the stepper's leaf refit merges).
+#include <mccd/core/bvh.h>
+#include <mccd/core/leaf_owners.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "fixtures/shapes.h"
+
+using namespace mccd;
+using namespace mccd::detail;
+
+namespace {
+void check_ownership(const TriMesh& m, BvhBuild build, unsigned leaf_size) {
+  MeshTopology topo(m.num_vertices(), m.faces);
+  BvhTopology bvh(triangle_bounds(m.faces, m.vertices), build, leaf_size);
+  LeafOwnership owners(bvh, topo);
+  const VolumeLayout& layout = owners.layout();
+  std::vector<int> owned_times(topo.num_vertices(), 0);
+  std::size_t leaves = 0;
+  for (std::uint32_t n = 0; n < bvh.size(); ++n) {
+    if (!bvh.leaf(n)) {
+      EXPECT_EQ(owners.vertex_begin(n), owners.vertex_begin(n + 1)) << "inner node " << n << " owns vertices";
+      EXPECT_EQ(owners.foreign_begin(n), owners.foreign_begin(n + 1)) << "inner node " << n << " has corners";
+      continue;
+    }
+    ++leaves;
+    std::set<std::uint32_t> corners;  // vertex slots of the leaf's triangles' corners
+    for (std::uint32_t k = 0; k < bvh.leaf_count(n); ++k)
+      for (std::uint32_t v : topo.faces()[bvh.leaf_triangles(n)[k]]) corners.insert(layout.vertex_slot[v]);
+    std::multiset<std::uint32_t> listed;
+    for (std::uint32_t s = owners.vertex_begin(n); s != owners.vertex_begin(n + 1); ++s) {
+      listed.insert(s);
+      ++owned_times[owners.vertex(s)];
+      EXPECT_EQ(layout.vertex_slot[owners.vertex(s)], s);
+    }
+    for (std::uint32_t i = owners.foreign_begin(n); i != owners.foreign_begin(n + 1); ++i) {
+      const std::uint32_t s = owners.foreign_corner(i);
+      EXPECT_TRUE(s < owners.vertex_begin(n) || s >= owners.vertex_begin(n + 1)) << "leaf " << n << " slot " << s;
+      listed.insert(s);
+    }
+    EXPECT_EQ(listed.size(), corners.size()) << "leaf " << n << ": a corner listed twice or missing";
+    EXPECT_TRUE(std::equal(corners.begin(), corners.end(), listed.begin(), listed.end())) << "leaf " << n;
+  }
+  EXPECT_GT(leaves, 1u);
+  for (std::uint32_t v = 0; v < topo.num_vertices(); ++v)
+    EXPECT_EQ(owned_times[v], topo.vertex_face_count(v) ? 1 : 0) << "vertex " << v;
+}
+}  // namespace
+
+TEST(LeafOwnership, OwnedAndForeignCornersCoverEachLeafOnce) {
+  check_ownership(make_grid_mesh(12), BvhBuild::Sah, 8);
+  check_ownership(make_grid_mesh(9), BvhBuild::Median, 1);
+  check_ownership(make_sphere_mesh(8, 12), BvhBuild::Sah, 5);
+}
