@@ -59,19 +59,29 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
     }
   });
-  // Each leaf's corners that it does not own, once each.
-  foreign_begin_.assign(bvh.size() + 1, 0);
-  for (std::uint32_t i = 0; i < bvh.size(); ++i) {
-    foreign_begin_[i] = static_cast<std::uint32_t>(foreign_.size());
-    if (!bvh.leaf(i)) continue;
-    const std::size_t first = foreign_.size();
-    for (std::uint32_t s = bvh.leaf_first(i); s != bvh.leaf_first(i) + bvh.leaf_count(i); ++s)
+  // Each leaf's corners that it does not own, once each: counted, then written, in parallel
+  // blocks of nodes (two passes: a scratch array would cost more in fresh pages than the
+  // second pass does).
+  auto foreign_of = [&](std::size_t i, std::uint32_t (&out)[3 * BvhTopology::kMaxLeaf]) {
+    unsigned n = 0;
+    const auto node = static_cast<std::uint32_t>(i);
+    if (!bvh.leaf(node)) return n;
+    for (std::uint32_t s = bvh.leaf_first(node); s != bvh.leaf_first(node) + bvh.leaf_count(node); ++s)
       for (std::uint32_t c : face_corner_slots_[s])
-        if (c < vertex_begin_[i] || c >= vertex_begin_[i + 1]) foreign_.push_back(c);
-    std::sort(foreign_.begin() + first, foreign_.end());
-    foreign_.erase(std::unique(foreign_.begin() + first, foreign_.end()), foreign_.end());
-  }
-  foreign_begin_[bvh.size()] = static_cast<std::uint32_t>(foreign_.size());
+        if ((c < vertex_begin_[i] || c >= vertex_begin_[i + 1]) && std::find(out, out + n, c) == out + n) out[n++] = c;
+    return n;
+  };
+  foreign_begin_.assign(bvh.size() + 1, 0);
+  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+    std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
+    for (std::size_t i = b; i != e; ++i) foreign_begin_[i + 1] = foreign_of(i, buf);
+  });
+  for (std::size_t i = 1; i < foreign_begin_.size(); ++i) foreign_begin_[i] += foreign_begin_[i - 1];
+  foreign_.resize(foreign_begin_.back());
+  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+    std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
+    for (std::size_t i = b; i != e; ++i) std::copy(buf, buf + foreign_of(i, buf), foreign_.begin() + foreign_begin_[i]);
+  });
 }
 
 }  // namespace mccd::detail
