@@ -83,13 +83,4 @@ void refit_range(const BvhTopology& bvh, Volumes& volumes, std::uint32_t begin, 
     volumes[i] = bvh.leaf(i) ? BV(leaf_volume(i)) : BV::merged(volumes[bvh.left(i)], volumes[bvh.right(i)]);
 }
 
-/// The merge of `triangle_volume(t)` over leaf `node`'s triangles (a leaf volume for refit_range).
-template <class TriangleVolume>
-auto triangles_volume(const BvhTopology& bvh, std::uint32_t node, const TriangleVolume& triangle_volume) {
-  const std::uint32_t* t = bvh.leaf_triangles(node);
-  auto v = triangle_volume(t[0]);
-  for (std::uint32_t k = 1; k < bvh.leaf_count(node); ++k) v.merge(triangle_volume(t[k]));
-  return v;
-}
-
 }  // namespace mccd

@@ -76,8 +76,8 @@ class FeatureTests {
   }
 
   /// The same with the edges' quarters at hand.
-  [[gnu::always_inline]] void test_ee(std::uint32_t a, std::uint32_t b, const Quarters& qa, const Quarters& qb, WorkerOutput& out,
-               unsigned within) const {
+  [[gnu::always_inline]] void test_ee(std::uint32_t a, std::uint32_t b, const Quarters& qa, const Quarters& qb,
+                                      WorkerOutput& out, unsigned within) const {
     if (query_.stopped()) return;
     if (a > b) std::swap(a, b);  // the overlap test is symmetric
     ++out.stats.feature_box_tests;

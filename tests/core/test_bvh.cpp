@@ -61,12 +61,13 @@ TEST(Bvh, RefitContainsChildren) {
   BvhTopology b(points(c), BvhBuild::Sah);
   std::vector<Kdop18> vol(b.size());
   refit_range(b, vol, 0, std::uint32_t(b.size()), [&](std::uint32_t node) {
-    return triangles_volume(b, node, [&](std::uint32_t t) {
-      Kdop18 d = Kdop18::empty();
+    Kdop18 d = Kdop18::empty();
+    for (std::uint32_t k = 0; k < b.leaf_count(node); ++k) {
+      const std::uint32_t t = b.leaf_triangles(node)[k];
       d.add_point(c[t]);
       d.add_point(c[t] + Vec3(0.01, 0, 0));
-      return d;
-    });
+    }
+    return d;
   });
   for (std::uint32_t i = 0; i < b.size(); ++i)
     if (!b.leaf(i))
