@@ -59,7 +59,9 @@ inline __m128 floats_below_sse2(__m128d a, __m128d b) {
   const __m128d above_a = _mm_cmpgt_pd(_mm_cvtps_pd(fa), a), above_b = _mm_cmpgt_pd(_mm_cvtps_pd(fb), b);
   const __m128i above =
       _mm_castps_si128(_mm_shuffle_ps(_mm_castpd_ps(above_a), _mm_castpd_ps(above_b), _MM_SHUFFLE(2, 0, 2, 0)));
-  auto select = [](__m128i m, __m128i x, __m128i y) { return _mm_or_si128(_mm_and_si128(m, x), _mm_andnot_si128(m, y)); };
+  auto select = [](__m128i m, __m128i x, __m128i y) {
+    return _mm_or_si128(_mm_and_si128(m, x), _mm_andnot_si128(m, y));
+  };
   const __m128i zero = _mm_setzero_si128(), ones = _mm_set1_epi32(-1);
   const __m128i toward_zero = _mm_add_epi32(u, ones), away = _mm_sub_epi32(u, ones);
   const __m128i step = select(_mm_cmpgt_epi32(u, zero), toward_zero,
@@ -81,7 +83,8 @@ inline void floats_below(const double (&x)[4], float out[4]) {
 inline void floats_above(const double (&x)[4], float out[4]) {
 #if defined(__SSE2__)
   const __m128d sign = _mm_set1_pd(-0.0);
-  const __m128 below = detail::floats_below_sse2(_mm_xor_pd(_mm_loadu_pd(x), sign), _mm_xor_pd(_mm_loadu_pd(x + 2), sign));
+  const __m128 below =
+      detail::floats_below_sse2(_mm_xor_pd(_mm_loadu_pd(x), sign), _mm_xor_pd(_mm_loadu_pd(x + 2), sign));
   _mm_storeu_ps(out, _mm_xor_ps(below, _mm_set1_ps(-0.0f)));
 #else
   for (int i = 0; i < 4; ++i) out[i] = float_above(x[i]);
