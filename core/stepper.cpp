@@ -204,7 +204,7 @@ template <BoundingVolume BV>
 void Stepper<BV>::join() {
   const auto t = Clock::now();
   result_.stats += self_stats_;
-  join_contacts(contacts_, sorted_, scene_, result_);
+  join_contacts(contacts_, join_scratch_, scene_, result_);
   result_.stats.t_contacts = seconds_since(t);
 }
 

@@ -97,7 +97,7 @@ class Stepper {
   WorkerOutput serial_;
   StepStats self_stats_;
   ContactBuffer contacts_;
-  LargeVector<RawContact> sorted_;  ///< the join's scratch
+  JoinScratch join_scratch_;  ///< kept from step to step
   std::unique_ptr<StepGraph> graph_;
 };
 

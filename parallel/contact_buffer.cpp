@@ -8,23 +8,38 @@
 
 namespace mccd::detail {
 
-void join_contacts(const ContactBuffer& buffer, LargeVector<RawContact>& raw, const SceneTopology& scene,
-                   StepResult& res) {
-  // The keys order the contacts canonically (worker_output.h) and are unique (one contact per
-  // feature pair), so any sort gives the same order.
-  raw.assign(buffer.begin(), buffer.end());
-  auto before = [](const RawContact& x, const RawContact& y) { return x.key < y.key; };
-  const bool large = raw.size() > 4096;
-  if (large)
-    tbb::parallel_sort(raw.begin(), raw.end(), before);
-  else
-    std::sort(raw.begin(), raw.end(), before);
-  res.contacts.reserve(raw.size());
-  advise_huge_pages(res.contacts.data(), raw.size() * sizeof(Contact));
-  res.contacts.resize(raw.size());
+void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const SceneTopology& scene, StepResult& res,
+                   bool allow_packed) {
+  const std::size_t n = buffer.size();
+  const bool large = n > 4096;
+  // The contacts' positions in the canonical order (the keys are unique, so any sort gives it).
+  const MeshTopology& topo = scene.topology();
+  const std::size_t ids = std::max({topo.num_vertices(), topo.num_faces(), topo.num_edges(), std::size_t(1)});
+  const auto id_bits = static_cast<unsigned>(std::bit_width(ids - 1));
+  struct Keys {  // the buffer's keys in sequence
+    ContactBuffer::const_iterator it;
+    std::uint64_t operator*() const { return it->key; }
+    Keys& operator++() { return ++it, *this; }
+  };
+  const bool packed = allow_packed && packed_key_order(Keys{buffer.begin()}, n, id_bits, scratch.order);
+  const std::uint64_t pos_mask = (std::uint64_t(1) << position_bits(n)) - 1;
+  if (!packed) {
+    scratch.raw.assign(buffer.begin(), buffer.end());
+    auto before = [](const RawContact& x, const RawContact& y) { return x.key < y.key; };
+    if (large)
+      tbb::parallel_sort(scratch.raw.begin(), scratch.raw.end(), before);
+    else
+      std::sort(scratch.raw.begin(), scratch.raw.end(), before);
+  }
+  auto raw = [&](std::size_t i) -> const RawContact& {
+    return packed ? buffer[scratch.order[i] & pos_mask] : scratch.raw[i];
+  };
+  res.contacts.reserve(n);
+  advise_huge_pages(res.contacts.data(), n * sizeof(Contact));
+  res.contacts.resize(n);
   auto convert = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i != end; ++i) {
-      const RawContact& r = raw[i];
+      const RawContact& r = raw(i);
       Contact& c = res.contacts[i];
       c.kind = r.kind();
       c.toi = r.toi;
@@ -48,11 +63,11 @@ void join_contacts(const ContactBuffer& buffer, LargeVector<RawContact>& raw, co
     }
   };
   if (large)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, raw.size(), 4096),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) { convert(r.begin(), r.end()); });
   else
-    convert(0, raw.size());
-  for (const RawContact& r : raw) {
+    convert(0, n);
+  for (const RawContact& r : buffer) {
     ++(r.kind() == ContactKind::VertexFace ? res.stats.vf_contacts : res.stats.ee_contacts);
     res.earliest_toi = std::min(res.earliest_toi, r.toi);
   }
