@@ -20,7 +20,7 @@ template <BoundingVolume BV>
 BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
                                    const SceneOptions& options, const Positions& initial) {
   return BvhTopology(triangle_bounds(faces, initial), options.bvh,
-                     options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 8u), face_offsets);
+                     options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 12u), face_offsets);
 }
 
 template <BoundingVolume BV>
