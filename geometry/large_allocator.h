@@ -6,13 +6,13 @@
 /// first time in 4 KiB pages, every page costs a fault (in virtual machines several
 /// microseconds each: cloth-ball's 60 MB of swept volumes took 0.18 s to zero); in 2 MiB huge
 /// pages the same memory takes a few hundred faults, and the traversal's random reads miss
-/// the TLB less. Arrays of at least one huge page are therefore allocated on 2 MiB boundaries,
-/// and their whole huge pages advised MADV_HUGEPAGE (Linux; a hint: where the kernel declines,
-/// nothing changes but the alignment). The last partial huge page is not advised: it stays in
-/// 4 KiB pages, touched only as far as the array reaches, so the resident memory is the
-/// array's own (a huge page there would hold up to 2 MiB of nothing). Smaller arrays, and every
-/// array elsewhere, come from operator new. Memory is returned to where it came from; the
-/// allocator is stateless, so any two compare equal.
+/// the TLB less. Arrays of at least half a huge page are therefore allocated on 2 MiB
+/// boundaries, and their whole huge pages advised MADV_HUGEPAGE (Linux; a hint: where the
+/// kernel declines, nothing changes but the alignment). The last partial huge page is advised
+/// only when the array fills at least half of it (huge_part): otherwise it stays in 4 KiB
+/// pages, touched only as far as the array reaches, so a huge page never holds more than 1 MiB
+/// of nothing. Smaller arrays, and every array elsewhere, come from operator new. Memory is
+/// returned to where it came from; the allocator is stateless, so any two compare equal.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -28,7 +28,15 @@
 namespace mccd::detail {
 
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
-inline constexpr std::size_t kHugeMin = kHugePage;
+inline constexpr std::size_t kHugeMin = kHugePage / 2;
+
+/// The bytes of an array of `bytes` (on a huge page boundary) advised huge: its whole huge
+/// pages, and the last partial one when the array fills at least half of it (at most 1 MiB of
+/// a huge page then holds nothing, against up to 256 faults of 4 KiB pages).
+constexpr std::size_t huge_part(std::size_t bytes) {
+  const std::size_t whole = bytes / kHugePage * kHugePage;
+  return bytes - whole >= kHugePage / 2 ? whole + kHugePage : whole;
+}
 
 /// Advises MADV_HUGEPAGE on the whole 2 MiB pages inside [p, p + bytes) (memory allocated
 /// elsewhere, such as a std::vector handed to the caller, before its first touch). A hint:
@@ -42,6 +50,28 @@ inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::si
 #endif
 }
 
+/// Reserves room for `n` elements in an empty std::vector of any allocator (one handed to the
+/// caller) and advises its huge pages before their first touch, by the rule of huge_part: the
+/// capacity is grown by one huge page so that the last page the `n` elements reach lies inside
+/// it. Below half a huge page, a plain reserve.
+template <class T, class A>
+void reserve_huge(std::vector<T, A>& v, std::size_t n) {
+  const std::size_t bytes = n * sizeof(T);
+  if (bytes < kHugeMin || !v.empty()) {
+    v.reserve(n);
+    return;
+  }
+  v.reserve(n + kHugePage / sizeof(T) + 1);
+#if defined(__linux__)
+  const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t first = (begin + kHugePage - 1) / kHugePage * kHugePage;
+  const std::uintptr_t end = begin + bytes;
+  if (end <= first) return;
+  const std::uintptr_t last = first + huge_part(end - first);
+  madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#endif
+}
+
 template <class T>
 struct LargeAllocator {
   using value_type = T;
@@ -50,14 +80,16 @@ struct LargeAllocator {
   LargeAllocator(const LargeAllocator<U>&) noexcept {}
 
   T* allocate(std::size_t n) {
-    if (n > std::size_t(-1) / sizeof(T)) throw std::bad_array_new_length();
+    // Beyond a quarter of the address space no allocation can succeed (and the rounding below
+    // stays in range).
+    if (n > (std::size_t(-1) >> 2) / sizeof(T)) throw std::bad_array_new_length();
     const std::size_t bytes = n * sizeof(T);
 #if defined(__linux__)
     if (bytes >= kHugeMin) {
       const std::size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
       void* p = std::aligned_alloc(kHugePage, size);
       if (!p) throw std::bad_alloc();
-      madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);  // a hint; its failure changes nothing
+      madvise(p, huge_part(bytes), MADV_HUGEPAGE);  // a hint; its failure changes nothing
       return static_cast<T*>(p);
     }
 #endif

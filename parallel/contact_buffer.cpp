@@ -34,8 +34,7 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
   auto raw = [&](std::size_t i) -> const RawContact& {
     return packed ? buffer[scratch.order[i] & pos_mask] : scratch.raw[i];
   };
-  res.contacts.reserve(n);
-  advise_huge_pages(res.contacts.data(), n * sizeof(Contact));
+  reserve_huge(res.contacts, n);
   res.contacts.resize(n);
   auto convert = [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i != end; ++i) {
