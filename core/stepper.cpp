@@ -5,6 +5,10 @@
 #include <mccd/parallel/phc.h>
 #include <mccd/parallel/volume_update.h>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
+
 namespace mccd::detail {
 
 namespace {
@@ -45,8 +49,15 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
   // scene constructs its stepper in its arena).
   auto chunks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
   swept_.resize(topo, owners_.layout(), chunks);
-  swept_.first_touch(chunks);
-  first_touch(nodes_, chunks);
+  // What backing a page costs varies widely from page to page (in a virtual machine the host
+  // backs it too): small chunks dealt out dynamically keep both threads busy to the end.
+  auto touch_chunks = [](std::size_t n, const auto& body) {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 4096),
+        [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, tbb::simple_partitioner());
+  };
+  swept_.first_touch(touch_chunks);
+  first_touch(nodes_, touch_chunks);
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   bool any_static = false;
