@@ -13,6 +13,7 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/concurrent_vector.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_sort.h>
 
 #include <mccd/core/contact.h>
 #include <mccd/core/scene_topology.h>
@@ -82,8 +83,16 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
       order[next[v >> shift]++] = v;
     }
   }
+  // Contacts crowded into a few buckets (all in a small range of ids) would leave one thread
+  // sorting most of them: a large bucket is sorted in parallel itself.
   auto sort_buckets = [&](std::size_t b0, std::size_t b1) {
-    for (std::size_t b = b0; b != b1; ++b) std::sort(order.begin() + start[b], order.begin() + start[b + 1]);
+    for (std::size_t b = b0; b != b1; ++b) {
+      const auto first = order.begin() + start[b], last = order.begin() + start[b + 1];
+      if (last - first > 32768)
+        tbb::parallel_sort(first, last);
+      else
+        std::sort(first, last);
+    }
   };
   if (n > 4096)
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 64),

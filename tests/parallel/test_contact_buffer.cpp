@@ -50,6 +50,26 @@ TEST(ContactOrder, PackedOrderIsTheOrderOfTheKeys) {
   }
 }
 
+// Keys crowded into one bucket (every id in a narrow range at the top): the large bucket is
+// sorted on its own, with the same result.
+TEST(ContactOrder, CrowdedKeysKeepTheirOrder) {
+  std::mt19937_64 rng(11);
+  std::set<std::uint64_t> seen;
+  std::vector<std::uint64_t> keys;
+  const std::uint32_t base = (1u << 20) - 512;  // a in [2^20 - 512, 2^20): one top bucket
+  while (keys.size() < 100000) {
+    const auto a = static_cast<std::uint32_t>(base + rng() % 512), b = static_cast<std::uint32_t>(rng() % (1u << 20));
+    const std::uint64_t k = RawContact::make_key(ContactKind::EdgeEdge, a, b);
+    if (seen.insert(k).second) keys.push_back(k);
+  }
+  LargeVector<std::uint64_t> order;
+  ASSERT_TRUE(packed_key_order(keys.begin(), keys.size(), 20, order));
+  std::vector<std::uint64_t> sorted = keys;
+  std::sort(sorted.begin(), sorted.end());
+  const std::uint64_t mask = (std::uint64_t(1) << position_bits(keys.size())) - 1;
+  for (std::size_t i = 0; i < keys.size(); ++i) ASSERT_EQ(keys[order[i] & mask], sorted[i]) << "entry " << i;
+}
+
 TEST(ContactOrder, RefusesWhenKeyAndPositionDoNotFitOneWord) {
   // 1 + 2 * 31 key bits and 2 position bits: 65.
   const std::vector<std::uint64_t> keys = random_keys(3, 31, 7);
