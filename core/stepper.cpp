@@ -23,8 +23,8 @@ void add_stats(WorkerOutputs& units, std::size_t n, StepStats& total) {
 template <BoundingVolume BV>
 BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
                                    const SceneOptions& options, const Positions& initial) {
-  return BvhTopology(triangle_bounds(faces, initial), options.bvh,
-                     options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 12u), face_offsets);
+  const unsigned leaf = options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 12u);
+  return BvhTopology(triangle_bounds(faces, initial), options.bvh, leaf, face_offsets);
 }
 
 template <BoundingVolume BV>

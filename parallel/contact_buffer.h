@@ -3,8 +3,8 @@
 /// per block or task, never one record at a time); its order depends on scheduling until the
 /// join sorts the contacts into the canonical order, so the result does not. Its segments, like
 /// the step's other large buffers, come from the large-array allocator (geometry/
-/// large_allocator.h: huge pages for their whole 2 MiB pages): first touched, 4 KiB pages cost
-/// a fault each, a large part of a first step on a virtual machine.
+/// large_allocator.h: huge pages from 1 MiB up): first touched, 4 KiB pages cost a fault each,
+/// a large part of a first step on a virtual machine.
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -32,11 +32,11 @@ inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
 }
 
 /// The canonical order of n contacts by their keys (unique), as positions into them: `keys`
-/// iterates over their keys in sequence; ids in keys are below 2^`id_bits`. Each entry of `order` packs a
-/// compact key above the position: entry & ((1 << position_bits(n)) - 1) is the position. When
-/// the compact key and the position do not fit in 64 bits, returns false and leaves `order`
-/// empty (the caller sorts otherwise). The top bits are distributed serially, the buckets sorted
-/// in parallel.
+/// iterates over their keys in sequence; ids in keys are below 2^`id_bits`. Each entry of
+/// `order` packs a compact key above the position: entry & ((1 << position_bits(n)) - 1) is the
+/// position. When the compact key and the position do not fit in 64 bits, returns false and
+/// leaves `order` empty (the caller sorts otherwise). The top bits are distributed serially,
+/// the buckets sorted in parallel.
 template <class KeyIterator>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order);
 /// Bits that hold a position below n.

@@ -34,7 +34,8 @@ TEST(ContactOrder, PackedOrderIsTheOrderOfTheKeys) {
            {0, 1}, {1, 1}, {2, 1}, {3, 2}, {1000, 5}, {5000, 12}, {100000, 18}, {20000, 24}}) {  // the last: 64 bits exactly
     const std::vector<std::uint64_t> keys = random_keys(n, id_bits, static_cast<std::uint32_t>(n + id_bits));
     LargeVector<std::uint64_t> order;
-    ASSERT_TRUE(packed_key_order(keys.begin(), n, id_bits, order)) << n << " contacts, " << id_bits << " id bits";
+    ASSERT_TRUE(packed_key_order(keys.begin(), n, id_bits, order))
+        << n << " contacts, " << id_bits << " id bits";
     ASSERT_EQ(order.size(), n);
     std::vector<std::uint64_t> sorted = keys;
     std::sort(sorted.begin(), sorted.end());
