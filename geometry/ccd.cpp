@@ -50,9 +50,7 @@ Prepared prepare(const CcdPoints& p, double d, Setup<double>& S, double& toi, Cc
     if (counters) ++counters->box_culled;
     return Prepared::Miss;
   }
-  if (!box)
-    for (int i = 0; i < 4; ++i)
-      for (int k = 0; k < 3; ++k) mx = std::max(mx, std::max(std::fabs(p.start[i][k]), std::fabs(p.end[i][k])));
+  if (!box) mx = max_abs_coordinate(p);
   S.kind = K;
   switch (load(p, d, S, mx)) {
     case Load::Ok:

@@ -4,6 +4,9 @@
 /// the time pieces of stage (c), and the rigorous separation test along a direction that both
 /// primitive kinds share.
 #include <cfloat>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_bernstein.h>
@@ -60,11 +63,31 @@ inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S, doub
   return Load::Ok;
 }
 
-inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
+/// The largest absolute coordinate of the eight points, NaN coordinates skipped (as a chain of
+/// std::max(mx, |x|) from 0 skips them). SSE2: twelve pairs of coordinates, two at a time;
+/// max_pd(x, m) keeps m when x is NaN, and the maximum of the others does not depend on order.
+inline double max_abs_coordinate(const CcdPoints& p) {
+  static_assert(sizeof(CcdPoints) == 24 * sizeof(double), "the eight points as 24 contiguous doubles");
+  const double* x = p.start[0].data();
+#if defined(__SSE2__)
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+  __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd();
+  for (int i = 0; i < 24; i += 4) {
+    m0 = _mm_max_pd(_mm_and_pd(_mm_loadu_pd(x + i), magnitude), m0);
+    m1 = _mm_max_pd(_mm_and_pd(_mm_loadu_pd(x + i + 2), magnitude), m1);
+  }
+  const __m128d m = _mm_max_pd(m1, m0);
+  const double a = _mm_cvtsd_f64(m), b = _mm_cvtsd_f64(_mm_unpackhi_pd(m, m));
+  return std::max(a, b);
+#else
   double mx = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int k = 0; k < 3; ++k) mx = std::max(mx, std::max(std::fabs(p.start[i][k]), std::fabs(p.end[i][k])));
-  return load(p, min_distance, S, mx);
+  for (int i = 0; i < 24; ++i) mx = std::max(mx, std::fabs(x[i]));
+  return mx;
+#endif
+}
+
+inline Load load(const CcdPoints& p, double min_distance, Setup<double>& S) {
+  return load(p, min_distance, S, max_abs_coordinate(p));
 }
 
 // Inside functions g_i: necessary conditions for contact at a time t (all g_i(t) >= 0):

@@ -20,6 +20,23 @@
 
 namespace mccd {
 
+/// The bounds of a feature along four slabs over the whole step (QuarterDop::step_box()).
+struct alignas(16) StepBox {
+  float lo[4], hi[4];
+  /// Whether the two boxes overlap (touching counts; a NaN bound never separates).
+  [[gnu::always_inline]] bool overlaps(const StepBox& o) const {
+#if defined(__SSE2__)
+    const __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo), _mm_load_ps(o.hi)),
+                                 _mm_cmpgt_ps(_mm_load_ps(o.lo), _mm_load_ps(hi)));
+    return _mm_movemask_ps(sep) == 0;
+#else
+    bool sep = false;
+    for (int k = 0; k < 4; ++k) sep |= (lo[k] > o.hi[k]) | (o.lo[k] > hi[k]);
+    return !sep;
+#endif
+  }
+};
+
 template <int Slabs>
 struct alignas(16) QuarterDop {
   float lo[Slabs][4];  ///< 16 * Slabs bytes: per slab, the lower bounds of quarters 0..3
@@ -79,6 +96,33 @@ struct alignas(16) QuarterDop {
       d.hi[s] = h;
     }
     return d;
+  }
+
+  /// A box of the whole step (the first four slabs, merged over the quarters), for a cheap
+  /// pre-test: boxes that do not overlap imply quarter volumes that overlap in no quarter.
+  StepBox step_box() const {
+    StepBox b;
+#if defined(__SSE2__)
+    constexpr int s3 = Slabs > 3 ? 3 : Slabs - 1;  // lane 3: the fourth slab, or the third again
+    __m128 l0 = _mm_load_ps(lo[0]), l1 = _mm_load_ps(lo[1]), l2 = _mm_load_ps(lo[2]), l3 = _mm_load_ps(lo[s3]);
+    __m128 h0 = _mm_load_ps(hi[0]), h1 = _mm_load_ps(hi[1]), h2 = _mm_load_ps(hi[2]), h3 = _mm_load_ps(hi[s3]);
+    _MM_TRANSPOSE4_PS(l0, l1, l2, l3);
+    _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
+    _mm_store_ps(b.lo, _mm_min_ps(_mm_min_ps(l0, l1), _mm_min_ps(l2, l3)));
+    _mm_store_ps(b.hi, _mm_max_ps(_mm_max_ps(h0, h1), _mm_max_ps(h2, h3)));
+#else
+    for (int k = 0; k < 4; ++k) {
+      const int s = k < Slabs ? k : Slabs - 1;
+      float l = lo[s][0], h = hi[s][0];
+      for (int q = 1; q < 4; ++q) {
+        l = lo[s][q] < l ? lo[s][q] : l;
+        h = hi[s][q] > h ? hi[s][q] : h;
+      }
+      b.lo[k] = l;
+      b.hi[k] = h;
+    }
+#endif
+    return b;
   }
 
   /// Grows every quarter to contain the same quarter of `o`.
