@@ -14,6 +14,7 @@
 /// surviving edge against the other leaf's surviving edges, through the common feature test
 /// (core/feature_tests.h) restricted to the quarters both survived in. The features' volumes are
 /// stored in leaf order (layout()), so a leaf pair reads a few contiguous runs.
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -134,11 +135,18 @@ class OwnedPairs {
       const unsigned m = swept.vertex_quarters_at(s).overlap_mask(qq, within);
       if (!m) continue;
       const std::uint32_t v = owners_.vertex(s);
+      // The faces whose whole-step volumes meet the vertex's, as bits (no branch per face).
+      const BV& vertex_volume = swept.vertex_at(s);
+      unsigned meet = 0;
       for (std::uint32_t k = 0; k < nf; ++k) {
         const Triangle& t = owners_.face_corners(face_slot + k);
-        if (t[0] == v || t[1] == v || t[2] == v) continue;
-        ++out.stats.feature_box_tests;
-        if (!swept.vertex_at(s).overlaps(swept.face_at(face_slot + k))) continue;
+        const bool corner = (t[0] == v) | (t[1] == v) | (t[2] == v);
+        out.stats.feature_box_tests += !corner;
+        meet |= unsigned(!corner & vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
+      }
+      for (; meet; meet &= meet - 1) {
+        const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
+        const Triangle& t = owners_.face_corners(face_slot + k);
         if (!(merged >> k & 1u)) {
           const Triangle& c = owners_.face_corner_slots(face_slot + k);
           face_quarters[k] = Quarters::merged(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
