@@ -88,6 +88,16 @@ class FeatureTests {
     narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
   }
 
+  /// Edges a and b (sharing no vertex) whose quarter volumes overlap in the quarters `pieces`
+  /// (non-zero; the caller tested them and counted the test): the narrow phase.
+  void test_ee_pieces(std::uint32_t a, std::uint32_t b, unsigned pieces, WorkerOutput& out) const {
+    if (query_.stopped()) return;
+    if (a > b) std::swap(a, b);
+    const Edge& ea = topo_.edges()[a];
+    const Edge& eb = topo_.edges()[b];
+    narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
+  }
+
   /// An earliest-impact query skips what cannot meet before the best time found so far.
   bool too_late(unsigned quarters) const {
     return query_.kind() == StepKind::Earliest && 0.25 * std::countr_zero(quarters) >= query_.best();

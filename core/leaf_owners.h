@@ -91,14 +91,25 @@ class OwnedPairs {
     if (!ea.n) return;
     surviving_edges(b, qa, within, eb);
     const SweptVolumes<BV>& swept = tests_.swept();
+    // Each edge of A against every edge of B without a branch per pair (they mispredict
+    // often): the quarters where the two may meet, as bits; then the pairs that may meet.
+    unsigned pieces[kMaxOwned];
     for (unsigned i = 0; i < ea.n; ++i) {
       const Edge& x = ea.ends[i];
+      const Quarters& qx = swept.edge_quarters_at(ea.slot[i]);
+      std::uint64_t meet = 0;
       for (unsigned j = 0; j < eb.n; ++j) {
-        const unsigned m = ea.mask[i] & eb.mask[j];
-        if (!m) continue;
         const Edge& y = eb.ends[j];
-        if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
-        tests_.test_ee(ea.id[i], eb.id[j], swept.edge_quarters_at(ea.slot[i]), swept.edge_quarters_at(eb.slot[j]), out, m);
+        const bool shared = (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
+        const unsigned m = shared ? 0u : ea.mask[i] & eb.mask[j];
+        out.stats.feature_box_tests += m != 0;
+        pieces[j] = qx.box_mask(swept.edge_quarters_at(eb.slot[j]), m);
+        meet |= std::uint64_t(pieces[j] != 0) << j;
+      }
+      for (; meet; meet &= meet - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
+        const unsigned m = qx.rest_mask(swept.edge_quarters_at(eb.slot[j]), pieces[j]);
+        if (m) tests_.test_ee_pieces(ea.id[i], eb.id[j], m, out);
       }
     }
   }
@@ -131,8 +142,13 @@ class OwnedPairs {
     const std::uint32_t nf = bvh_.leaf_count(q), face_slot = bvh_.leaf_first(q);
     Quarters face_quarters[BvhTopology::kMaxLeaf];
     unsigned merged = 0;  // bit k: face k's quarters merged
-    for (std::uint32_t s = owners_.vertex_begin(p); s != owners_.vertex_begin(p + 1); ++s) {
-      const unsigned m = swept.vertex_quarters_at(s).overlap_mask(qq, within);
+    const std::uint32_t begin = owners_.vertex_begin(p);
+    unsigned box[kMaxOwned];
+    for (std::uint64_t pass = box_pass(begin, owners_.vertex_begin(p + 1), qq, within, box, false); pass;
+         pass &= pass - 1) {
+      const unsigned j = static_cast<unsigned>(std::countr_zero(pass));
+      const std::uint32_t s = begin + j;
+      const unsigned m = swept.vertex_quarters_at(s).rest_mask(qq, box[j]);
       if (!m) continue;
       const std::uint32_t v = owners_.vertex(s);
       // The faces whose whole-step volumes meet the vertex's, as bits (no branch per face).
@@ -158,6 +174,20 @@ class OwnedPairs {
     }
   }
 
+  /// For the vertex (edges: `edges`) slots [begin, end) of one leaf against quarters `qq`: the
+  /// box_mask of each in `box` (by slot - begin), and a bit per slot where it is non-zero.
+  std::uint64_t box_pass(std::uint32_t begin, std::uint32_t end, const Quarters& qq, unsigned within, unsigned* box,
+                         bool edges) const {
+    const SweptVolumes<BV>& swept = tests_.swept();
+    std::uint64_t pass = 0;
+    for (std::uint32_t s = begin; s != end; ++s) {
+      const Quarters& q = edges ? swept.edge_quarters_at(s) : swept.vertex_quarters_at(s);
+      box[s - begin] = q.box_mask(qq, within);
+      pass |= std::uint64_t(box[s - begin] != 0) << (s - begin);
+    }
+    return pass;
+  }
+
   /// Owned edges that may meet a leaf: ids, slots and the quarters where they may.
   struct Surviving {
     std::uint32_t id[kMaxOwned], slot[kMaxOwned];
@@ -168,13 +198,20 @@ class OwnedPairs {
   /// The edges leaf `p` owns that may meet quarters `qq` within `within`.
   void surviving_edges(std::uint32_t p, const Quarters& qq, unsigned within, Surviving& out) const {
     const SweptVolumes<BV>& swept = tests_.swept();
-    for (std::uint32_t s = owners_.edge_begin(p); s != owners_.edge_begin(p + 1); ++s) {
-      const unsigned m = swept.edge_quarters_at(s).overlap_mask(qq, within);
-      if (!m) continue;
+    // The box slabs of every edge without a branch per edge, then the other slabs of those
+    // that pass, kept without a branch.
+    const std::uint32_t begin = owners_.edge_begin(p);
+    unsigned box[kMaxOwned];
+    const std::uint64_t pass = box_pass(begin, owners_.edge_begin(p + 1), qq, within, box, true);
+    for (std::uint64_t rest = pass; rest; rest &= rest - 1) {
+      const unsigned k = static_cast<unsigned>(std::countr_zero(rest));
+      const std::uint32_t s = begin + k;
+      const unsigned m = swept.edge_quarters_at(s).rest_mask(qq, box[k]);
       out.id[out.n] = owners_.edge(s);
       out.slot[out.n] = s;
       out.ends[out.n] = owners_.edge_ends(s);
-      out.mask[out.n++] = m;
+      out.mask[out.n] = m;
+      out.n += m != 0;
     }
   }
 

@@ -148,6 +148,15 @@ struct alignas(16) QuarterDop {
 
   /// Bit q (0..3) set when the two volumes of quarter q overlap (touching counts), for the
   /// quarters of `within` only (the other bits are 0). A NaN bound never separates.
+  /// overlap_mask in two parts: box_mask() tests the first three slabs (the box), rest_mask()
+  /// the others; rest_mask(o, box_mask(o, w)) == overlap_mask(o, w).
+  [[gnu::always_inline]] unsigned box_mask(const QuarterDop& o, unsigned within) const {
+    return slabs_mask(o, within, 0, Slabs < 3 ? Slabs : 3);
+  }
+  [[gnu::always_inline]] unsigned rest_mask(const QuarterDop& o, unsigned within) const {
+    return Slabs > 3 ? slabs_mask(o, within, 3, Slabs) : within & 0xFu;
+  }
+
   [[gnu::always_inline]] unsigned overlap_mask(const QuarterDop& o, unsigned within = 0xF) const {
 #if defined(__SSE2__)
     __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[0]), _mm_load_ps(o.hi[0])),
@@ -168,6 +177,26 @@ struct alignas(16) QuarterDop {
     for (int q = 0; q < 4; ++q) {
       bool sep = false;
       for (int s = 0; s < Slabs; ++s) sep |= (lo[s][q] > o.hi[s][q]) | (o.lo[s][q] > hi[s][q]);
+      mask |= static_cast<unsigned>(!sep) << q;
+    }
+    return mask & within;
+#endif
+  }
+
+ private:
+  /// The quarters of `within` in which slabs [first, last) all overlap.
+  [[gnu::always_inline]] unsigned slabs_mask(const QuarterDop& o, unsigned within, int first, int last) const {
+#if defined(__SSE2__)
+    __m128 sep = _mm_setzero_ps();
+    for (int s = first; s < last; ++s)
+      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[s]), _mm_load_ps(o.hi[s])),
+                                     _mm_cmpgt_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(hi[s]))));
+    return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
+#else
+    unsigned mask = 0;
+    for (int q = 0; q < 4; ++q) {
+      bool sep = false;
+      for (int s = first; s < last; ++s) sep |= (lo[s][q] > o.hi[s][q]) | (o.lo[s][q] > hi[s][q]);
       mask |= static_cast<unsigned>(!sep) << q;
     }
     return mask & within;

@@ -53,6 +53,9 @@ TEST(QuarterVolumes, MaskMergeAndWholeEqualThePerQuarterDefinitions) {
       if ((within >> q & 1u) && a.quarter(q).overlaps(b.quarter(q))) expect |= 1u << q;
     ASSERT_EQ(a.overlap_mask(b, within), expect);
     ASSERT_EQ(b.overlap_mask(a, within), expect);
+    // In two parts (the box slabs, then the others), the same.
+    ASSERT_EQ(a.rest_mask(b, a.box_mask(b, within)), expect);
+    ASSERT_EQ(a.box_mask(b, within) & expect, expect) << "the box part keeps every quarter that overlaps";
     const QuarterDop<9> m = QuarterDop<9>::merged(a, b);
     Kdop18 whole = Kdop18::empty();
     for (int q = 0; q < 4; ++q) {
@@ -74,6 +77,8 @@ TEST(QuarterVolumes, MaskMergeAndWholeEqualThePerQuarterDefinitions) {
   unsigned expect = 0;
   for (int q = 0; q < 4; ++q) expect |= static_cast<unsigned>(a.quarter(q).overlaps(b.quarter(q))) << q;
   EXPECT_EQ(a.overlap_mask(b), expect);
+  EXPECT_EQ(a.rest_mask(b, a.box_mask(b, 0xF)), expect);
+  EXPECT_EQ(a.box_mask(b, 0xF), expect) << "an AABB is its box slabs";
   EXPECT_EQ(QuarterDop<9>::empty().overlap_mask(QuarterDop<9>::empty()), 0u);
 }
 
