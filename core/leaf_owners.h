@@ -121,14 +121,24 @@ class OwnedPairs {
     vertices_against(leaf, leaf, nodes_[leaf], 0xF, out);
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t end = owners_.edge_begin(leaf + 1);
-    for (std::uint32_t sa = owners_.edge_begin(leaf); sa != end; ++sa) {
-      const std::uint32_t a = owners_.edge(sa);
+    const std::uint32_t begin = owners_.edge_begin(leaf);
+    unsigned box[kMaxOwned];
+    for (std::uint32_t sa = begin; sa != end; ++sa) {
+      // As in process(): the box slabs of every pair without a branch, then the rest.
       const Edge& x = owners_.edge_ends(sa);
+      const Quarters& qx = swept.edge_quarters_at(sa);
+      std::uint64_t meet = 0;
       for (std::uint32_t sb = sa + 1; sb != end; ++sb) {
-        const std::uint32_t b = owners_.edge(sb);
         const Edge& y = owners_.edge_ends(sb);
-        if (x[0] == y[0] || x[0] == y[1] || x[1] == y[0] || x[1] == y[1]) continue;
-        tests_.test_ee(a, b, swept.edge_quarters_at(sa), swept.edge_quarters_at(sb), out, 0xF);
+        const bool shared = (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
+        out.stats.feature_box_tests += !shared;
+        box[sb - begin] = qx.box_mask(swept.edge_quarters_at(sb), shared ? 0u : 0xFu);
+        meet |= std::uint64_t(box[sb - begin] != 0) << (sb - begin);
+      }
+      for (; meet; meet &= meet - 1) {
+        const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
+        const unsigned m = qx.rest_mask(swept.edge_quarters_at(sb), box[sb - begin]);
+        if (m) tests_.test_ee_pieces(owners_.edge(sa), owners_.edge(sb), m, out);
       }
     }
   }
