@@ -3,11 +3,15 @@
 /// as one value laid out for vector registers.
 ///
 /// Layout (structure of arrays): for each slab of the k-DOP, the four quarters' lower bounds
-/// side by side, then the same for the upper bounds. Testing two features in all four quarters
-/// is then one 4-lane comparison pair per slab (9 for the 18-DOP, 3 for the AABB), and merging
-/// two is one min and one max per slab, with no shuffles:
+/// side by side, then their upper bounds. Testing two features in all four quarters is then
+/// one 4-lane comparison pair per slab (9 for the 18-DOP, 3 for the AABB), and merging two is
+/// one min and one max per slab, with no shuffles:
 ///
-///   lo[s][q], hi[s][q]: bounds along slab s (the axes of geometry/kdop.h) during quarter q.
+///   lo(s)[q], hi(s)[q]: bounds along slab s (the axes of geometry/kdop.h) during quarter q.
+///
+/// A slab's bounds are next to each other, slab after slab, so the box slabs (0-2) that most
+/// tests stop after fill the first 96 bytes: two cache lines wherever the value starts on a
+/// 32-byte boundary (every element of an array: 288 bytes is 9 times 32).
 ///
 /// Bounds are float, rounded outward by whoever fills them (SweptVolumes), like the k-DOPs.
 #include <cstdint>
@@ -20,35 +24,23 @@
 
 namespace mccd {
 
-/// The bounds of a feature along four slabs over the whole step (QuarterDop::step_box()).
-struct alignas(16) StepBox {
-  float lo[4], hi[4];
-  /// Whether the two boxes overlap (touching counts; a NaN bound never separates).
-  [[gnu::always_inline]] bool overlaps(const StepBox& o) const {
-#if defined(__SSE2__)
-    const __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo), _mm_load_ps(o.hi)),
-                                 _mm_cmpgt_ps(_mm_load_ps(o.lo), _mm_load_ps(hi)));
-    return _mm_movemask_ps(sep) == 0;
-#else
-    bool sep = false;
-    for (int k = 0; k < 4; ++k) sep |= (lo[k] > o.hi[k]) | (o.lo[k] > hi[k]);
-    return !sep;
-#endif
-  }
-};
-
 template <int Slabs>
-struct alignas(16) QuarterDop {
-  float lo[Slabs][4];  ///< 16 * Slabs bytes: per slab, the lower bounds of quarters 0..3
-  float hi[Slabs][4];  ///< 16 * Slabs bytes: per slab, the upper bounds of quarters 0..3
+struct alignas(32) QuarterDop {
+  float bounds[Slabs][2][4];  ///< 32 * Slabs bytes: per slab, lo(s) then hi(s)
+
+  /// The lower / upper bounds of quarters 0..3 along slab s (four floats).
+  float* lo(int s) { return bounds[s][0]; }
+  const float* lo(int s) const { return bounds[s][0]; }
+  float* hi(int s) { return bounds[s][1]; }
+  const float* hi(int s) const { return bounds[s][1]; }
 
   /// Empty in every quarter (overlaps nothing).
   static QuarterDop empty() {
     QuarterDop d;
     for (int s = 0; s < Slabs; ++s)
       for (int q = 0; q < 4; ++q) {
-        d.lo[s][q] = std::numeric_limits<float>::infinity();
-        d.hi[s][q] = -std::numeric_limits<float>::infinity();
+        d.lo(s)[q] = std::numeric_limits<float>::infinity();
+        d.hi(s)[q] = -std::numeric_limits<float>::infinity();
       }
     return d;
   }
@@ -56,16 +48,16 @@ struct alignas(16) QuarterDop {
   /// Quarter q's volume becomes `d`.
   void set(int q, const Dop<Slabs>& d) {
     for (int s = 0; s < Slabs; ++s) {
-      lo[s][q] = d.lo[s];
-      hi[s][q] = d.hi[s];
+      lo(s)[q] = d.lo[s];
+      hi(s)[q] = d.hi[s];
     }
   }
   /// Quarter q's volume.
   Dop<Slabs> quarter(int q) const {
     Dop<Slabs> d;
     for (int s = 0; s < Slabs; ++s) {
-      d.lo[s] = lo[s][q];
-      d.hi[s] = hi[s][q];
+      d.lo[s] = lo(s)[q];
+      d.hi[s] = hi(s)[q];
     }
     return d;
   }
@@ -76,10 +68,10 @@ struct alignas(16) QuarterDop {
 #if defined(__SSE2__)
     // Four slabs at a time: transposed, lane i holds slab s + i, reduced in the loop's order.
     for (; s + 4 <= Slabs; s += 4) {
-      __m128 l0 = _mm_load_ps(lo[s]), l1 = _mm_load_ps(lo[s + 1]), l2 = _mm_load_ps(lo[s + 2]),
-             l3 = _mm_load_ps(lo[s + 3]);
-      __m128 h0 = _mm_load_ps(hi[s]), h1 = _mm_load_ps(hi[s + 1]), h2 = _mm_load_ps(hi[s + 2]),
-             h3 = _mm_load_ps(hi[s + 3]);
+      __m128 l0 = _mm_load_ps(lo(s)), l1 = _mm_load_ps(lo(s + 1)), l2 = _mm_load_ps(lo(s + 2)),
+             l3 = _mm_load_ps(lo(s + 3));
+      __m128 h0 = _mm_load_ps(hi(s)), h1 = _mm_load_ps(hi(s + 1)), h2 = _mm_load_ps(hi(s + 2)),
+             h3 = _mm_load_ps(hi(s + 3));
       _MM_TRANSPOSE4_PS(l0, l1, l2, l3);
       _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
       _mm_storeu_ps(d.lo + s, _mm_min_ps(l3, _mm_min_ps(l2, _mm_min_ps(l1, l0))));
@@ -87,10 +79,10 @@ struct alignas(16) QuarterDop {
     }
 #endif
     for (; s < Slabs; ++s) {
-      float l = lo[s][0], h = hi[s][0];
+      float l = lo(s)[0], h = hi(s)[0];
       for (int q = 1; q < 4; ++q) {
-        l = lo[s][q] < l ? lo[s][q] : l;
-        h = hi[s][q] > h ? hi[s][q] : h;
+        l = lo(s)[q] < l ? lo(s)[q] : l;
+        h = hi(s)[q] > h ? hi(s)[q] : h;
       }
       d.lo[s] = l;
       d.hi[s] = h;
@@ -98,45 +90,18 @@ struct alignas(16) QuarterDop {
     return d;
   }
 
-  /// A box of the whole step (the first four slabs, merged over the quarters), for a cheap
-  /// pre-test: boxes that do not overlap imply quarter volumes that overlap in no quarter.
-  StepBox step_box() const {
-    StepBox b;
-#if defined(__SSE2__)
-    constexpr int s3 = Slabs > 3 ? 3 : Slabs - 1;  // lane 3: the fourth slab, or the third again
-    __m128 l0 = _mm_load_ps(lo[0]), l1 = _mm_load_ps(lo[1]), l2 = _mm_load_ps(lo[2]), l3 = _mm_load_ps(lo[s3]);
-    __m128 h0 = _mm_load_ps(hi[0]), h1 = _mm_load_ps(hi[1]), h2 = _mm_load_ps(hi[2]), h3 = _mm_load_ps(hi[s3]);
-    _MM_TRANSPOSE4_PS(l0, l1, l2, l3);
-    _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
-    _mm_store_ps(b.lo, _mm_min_ps(_mm_min_ps(l0, l1), _mm_min_ps(l2, l3)));
-    _mm_store_ps(b.hi, _mm_max_ps(_mm_max_ps(h0, h1), _mm_max_ps(h2, h3)));
-#else
-    for (int k = 0; k < 4; ++k) {
-      const int s = k < Slabs ? k : Slabs - 1;
-      float l = lo[s][0], h = hi[s][0];
-      for (int q = 1; q < 4; ++q) {
-        l = lo[s][q] < l ? lo[s][q] : l;
-        h = hi[s][q] > h ? hi[s][q] : h;
-      }
-      b.lo[k] = l;
-      b.hi[k] = h;
-    }
-#endif
-    return b;
-  }
-
   /// Grows every quarter to contain the same quarter of `o`.
   void merge(const QuarterDop& o) {
 #if defined(__SSE2__)
     for (int s = 0; s < Slabs; ++s) {
-      _mm_store_ps(lo[s], _mm_min_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(lo[s])));
-      _mm_store_ps(hi[s], _mm_max_ps(_mm_load_ps(o.hi[s]), _mm_load_ps(hi[s])));
+      _mm_store_ps(lo(s), _mm_min_ps(_mm_load_ps(o.lo(s)), _mm_load_ps(lo(s))));
+      _mm_store_ps(hi(s), _mm_max_ps(_mm_load_ps(o.hi(s)), _mm_load_ps(hi(s))));
     }
 #else
     for (int s = 0; s < Slabs; ++s)
       for (int q = 0; q < 4; ++q) {
-        lo[s][q] = o.lo[s][q] < lo[s][q] ? o.lo[s][q] : lo[s][q];
-        hi[s][q] = o.hi[s][q] > hi[s][q] ? o.hi[s][q] : hi[s][q];
+        lo(s)[q] = o.lo(s)[q] < lo(s)[q] ? o.lo(s)[q] : lo(s)[q];
+        hi(s)[q] = o.hi(s)[q] > hi(s)[q] ? o.hi(s)[q] : hi(s)[q];
       }
 #endif
   }
@@ -159,11 +124,11 @@ struct alignas(16) QuarterDop {
 
   [[gnu::always_inline]] unsigned overlap_mask(const QuarterDop& o, unsigned within = 0xF) const {
 #if defined(__SSE2__)
-    __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[0]), _mm_load_ps(o.hi[0])),
-                           _mm_cmpgt_ps(_mm_load_ps(o.lo[0]), _mm_load_ps(hi[0])));
+    __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(0)), _mm_load_ps(o.hi(0))),
+                           _mm_cmpgt_ps(_mm_load_ps(o.lo(0)), _mm_load_ps(hi(0))));
     auto slab = [&](int s) {
-      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[s]), _mm_load_ps(o.hi[s])),
-                                     _mm_cmpgt_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(hi[s]))));
+      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(s)), _mm_load_ps(o.hi(s))),
+                                     _mm_cmpgt_ps(_mm_load_ps(o.lo(s)), _mm_load_ps(hi(s)))));
     };
     slab(1);
     slab(2);
@@ -176,7 +141,7 @@ struct alignas(16) QuarterDop {
     unsigned mask = 0;
     for (int q = 0; q < 4; ++q) {
       bool sep = false;
-      for (int s = 0; s < Slabs; ++s) sep |= (lo[s][q] > o.hi[s][q]) | (o.lo[s][q] > hi[s][q]);
+      for (int s = 0; s < Slabs; ++s) sep |= (lo(s)[q] > o.hi(s)[q]) | (o.lo(s)[q] > hi(s)[q]);
       mask |= static_cast<unsigned>(!sep) << q;
     }
     return mask & within;
@@ -189,14 +154,14 @@ struct alignas(16) QuarterDop {
 #if defined(__SSE2__)
     __m128 sep = _mm_setzero_ps();
     for (int s = first; s < last; ++s)
-      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo[s]), _mm_load_ps(o.hi[s])),
-                                     _mm_cmpgt_ps(_mm_load_ps(o.lo[s]), _mm_load_ps(hi[s]))));
+      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(s)), _mm_load_ps(o.hi(s))),
+                                     _mm_cmpgt_ps(_mm_load_ps(o.lo(s)), _mm_load_ps(hi(s)))));
     return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
 #else
     unsigned mask = 0;
     for (int q = 0; q < 4; ++q) {
       bool sep = false;
-      for (int s = first; s < last; ++s) sep |= (lo[s][q] > o.hi[s][q]) | (o.lo[s][q] > hi[s][q]);
+      for (int s = first; s < last; ++s) sep |= (lo(s)[q] > o.hi(s)[q]) | (o.lo(s)[q] > hi(s)[q]);
       mask |= static_cast<unsigned>(!sep) << q;
     }
     return mask & within;

@@ -189,8 +189,8 @@ class SweptVolumes {
         lo[k] = std::min(pr[k][s], pr[k + 1][s]) - margin;
         hi[k] = std::max(pr[k][s], pr[k + 1][s]) + margin;
       }
-      floats_below(lo, q.lo[s]);
-      floats_above(hi, q.hi[s]);
+      floats_below(lo, q.lo(s));
+      floats_above(hi, q.hi(s));
     }
     vertex_[slot] = q.whole();
   }

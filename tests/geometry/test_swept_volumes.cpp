@@ -35,8 +35,8 @@ QuarterDop<S> random_quarters(std::mt19937& rng) {
   for (int s = 0; s < S; ++s)
     for (int k = 0; k < 4; ++k) {
       const float a = static_cast<float>(pick(rng)), b = static_cast<float>(pick(rng));
-      q.lo[s][k] = std::min(a, b);
-      q.hi[s][k] = std::max(a, b);
+      q.lo(s)[k] = std::min(a, b);
+      q.hi(s)[k] = std::max(a, b);
     }
   return q;
 }
@@ -61,8 +61,8 @@ TEST(QuarterVolumes, MaskMergeAndWholeEqualThePerQuarterDefinitions) {
     for (int q = 0; q < 4; ++q) {
       const Kdop18 e = Kdop18::merged(a.quarter(q), b.quarter(q));
       for (int s = 0; s < 9; ++s) {
-        ASSERT_EQ(m.lo[s][q], e.lo[s]);
-        ASSERT_EQ(m.hi[s][q], e.hi[s]);
+        ASSERT_EQ(m.lo(s)[q], e.lo[s]);
+        ASSERT_EQ(m.hi(s)[q], e.hi[s]);
       }
       whole.merge(a.quarter(q));
     }
