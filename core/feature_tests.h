@@ -79,20 +79,15 @@ class FeatureTests {
   [[gnu::always_inline]] void test_ee(std::uint32_t a, std::uint32_t b, const Quarters& qa, const Quarters& qb,
                                       WorkerOutput& out, unsigned within) const {
     if (query_.stopped()) return;
-    if (a > b) std::swap(a, b);  // the overlap test is symmetric
     ++out.stats.feature_box_tests;
-    const unsigned pieces = qa.overlap_mask(qb, within);
-    if (!pieces) return;
-    const Edge& ea = topo_.edges()[a];
-    const Edge& eb = topo_.edges()[b];
-    narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
+    if (const unsigned pieces = qa.overlap_mask(qb, within)) test_ee_pieces(a, b, pieces, out);  // symmetric test
   }
 
   /// Edges a and b (sharing no vertex) whose quarter volumes overlap in the quarters `pieces`
   /// (non-zero; the caller tested them and counted the test): the narrow phase.
   void test_ee_pieces(std::uint32_t a, std::uint32_t b, unsigned pieces, WorkerOutput& out) const {
     if (query_.stopped()) return;
-    if (a > b) std::swap(a, b);
+    if (a > b) std::swap(a, b);  // reported as (lower id, higher id)
     const Edge& ea = topo_.edges()[a];
     const Edge& eb = topo_.edges()[b];
     narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);

@@ -71,6 +71,7 @@ class OwnedPairs {
   using Quarters = QuarterVolume<BV>;
   /// A leaf owns at most 3 vertices and 3 edges per triangle.
   static constexpr unsigned kMaxOwned = 3 * BvhTopology::kMaxLeaf;
+  static_assert(kMaxOwned <= 64, "a leaf's owned features as the bits of one 64-bit mask");
 
   /// `nodes`: the quarter volumes of the BVH nodes.
   OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const LargeVector<Quarters>& nodes,
