@@ -100,8 +100,7 @@ class OwnedPairs {
       const Quarters& qx = swept.edge_quarters_at(ea.slot[i]);
       std::uint64_t meet = 0;
       for (unsigned j = 0; j < eb.n; ++j) {
-        const Edge& y = eb.ends[j];
-        const bool shared = (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
+        const bool shared = shares_end(x, eb.ends[j]);
         const unsigned m = shared ? 0u : ea.mask[i] & eb.mask[j];
         out.stats.feature_box_tests += m != 0;
         pieces[j] = qx.box_mask(swept.edge_quarters_at(eb.slot[j]), m);
@@ -130,8 +129,7 @@ class OwnedPairs {
       const Quarters& qx = swept.edge_quarters_at(sa);
       std::uint64_t meet = 0;
       for (std::uint32_t sb = sa + 1; sb != end; ++sb) {
-        const Edge& y = owners_.edge_ends(sb);
-        const bool shared = (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
+        const bool shared = shares_end(x, owners_.edge_ends(sb));
         out.stats.feature_box_tests += !shared;
         box[sb - begin] = qx.box_mask(swept.edge_quarters_at(sb), shared ? 0u : 0xFu);
         meet |= std::uint64_t(box[sb - begin] != 0) << (sb - begin);
@@ -183,6 +181,11 @@ class OwnedPairs {
         tests_.test_vf_quarters(v, swept.vertex_quarters_at(s), t, faces[k], face_quarters[k], out, m);
       }
     }
+  }
+
+  /// Whether two edges share an end (no branch: all four comparisons).
+  static bool shares_end(const Edge& x, const Edge& y) {
+    return (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
   }
 
   /// For the vertex (edges: `edges`) slots [begin, end) of one leaf against quarters `qq`: the

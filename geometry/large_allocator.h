@@ -38,13 +38,16 @@ constexpr std::size_t huge_part(std::size_t bytes) {
   return bytes - whole >= kHugePage / 2 ? whole + kHugePage : whole;
 }
 
+/// The first huge-page boundary at or above address `a`.
+constexpr std::uintptr_t huge_boundary_above(std::uintptr_t a) { return (a + kHugePage - 1) / kHugePage * kHugePage; }
+
 /// Advises MADV_HUGEPAGE on the whole 2 MiB pages inside [p, p + bytes) (memory allocated
 /// elsewhere, such as a std::vector handed to the caller, before its first touch). A hint:
 /// where the kernel declines, or elsewhere than Linux, nothing changes.
 inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
 #if defined(__linux__)
   const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t first = (begin + kHugePage - 1) / kHugePage * kHugePage;
+  const std::uintptr_t first = huge_boundary_above(begin);
   const std::uintptr_t last = (begin + bytes) / kHugePage * kHugePage;
   if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 #endif
@@ -64,7 +67,7 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   v.reserve(n + kHugePage / sizeof(T) + 1);
 #if defined(__linux__)
   const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-  const std::uintptr_t first = (begin + kHugePage - 1) / kHugePage * kHugePage;
+  const std::uintptr_t first = huge_boundary_above(begin);
   const std::uintptr_t end = begin + bytes;
   if (end <= first) return;
   const std::uintptr_t last = first + huge_part(end - first);
