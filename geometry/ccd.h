@@ -55,12 +55,12 @@
 ///         once the cubic is proved (rigorous bounds, polynomials restricted from [0, 1])
 ///         certainly nonzero on the rest of the piece: about D - k levels of bisection are
 ///         skipped;
-///       - a piece undecided at 2^-36 or finer (where a jump to the root lands; or when the
-///         budget runs out) is offered to an exact certificate of touching without crossing
-///         (geometry/ccd_touch.h), before any long-double pass: the vertex (VF) or an edge
-///         end (EE) and the segment it meets, with their six start and end points exactly
-///         coplanar (exact orient3d), the point crossing the segment's line strictly inside
-///         the segment within [lo, lo + 2^-20] (rigorous bounds on three quadratics). A
+///       - a piece undecided at 2^-20 or finer (or when the budget runs out) is offered to
+///         an exact certificate of touching without crossing (geometry/ccd_touch.h), before
+///         any long-double pass: the vertex (VF) or an edge end (EE) and the segment it
+///         meets, with their six start and end points exactly coplanar (exact orient3d), the
+///         point crossing the segment's line strictly inside the segment within the piece or
+///         [lo, lo + 2^-30] or [lo, lo + 2^-20] (rigorous bounds on three quadratics). A
 ///         certified touch is a contact at toi = the piece's start;
 ///       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
 ///         exhausts them is reported as a contact at the start of the current piece.
@@ -75,7 +75,7 @@
 ///    tangential (double-root) contact: undecided to the finest piece (or the budget), then
 ///    reported; touching exactly at t = 0 or t = 1: certified by the exact predicates; a
 ///    vertex or edge end passing through a segment while the two move in one plane (grids
-///    folded along a grid line): certified at pieces of 2^-36, without the long-double pass;
+///    folded along a grid line): certified at pieces of 2^-20, without the long-double pass;
 ///  - coordinates are rescaled by an exact power of two when the largest is outside
 ///    [2^-60, 2^60]; inputs that are not finite, or whose dynamic range exceeds about
 ///    2^1000, are reported as a contact at toi = 0 (conservative).

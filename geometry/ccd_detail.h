@@ -30,5 +30,6 @@ inline constexpr int kCcdMaxDepthLong = 56;      ///< long double pass: pieces d
 inline constexpr int kCcdPieceBudgetLong = 8;   ///< long double pass: at most this many pieces (per query)
 inline constexpr int kCcdToiDepth = 32;          ///< certified contacts: toi refined to 2^-32
 inline constexpr int kCcdCertDepth = 16;         ///< undecided from here: a proved touch at t = 1 ends the search
+inline constexpr int kCcdTouchDepth = 20;        ///< double pass: the touch certificate tried on pieces of 2^-20 and finer
 
 }  // namespace mccd::detail

@@ -197,10 +197,11 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       }
     }
     if constexpr (std::is_same_v<T, double>) {
-      // A touch without crossing, certified exactly (geometry/ccd_touch.h), tried from depth
-      // D - 4 (where a jump to the root lands): a contact in a window starting at lo, and
-      // every earlier piece is cleared, so toi = lo is not late.
-      if ((P.depth >= max_depth - 4 || budget <= 0) && certificate.certify(P.lo, P.hi)) {
+      // A touch without crossing, certified exactly (geometry/ccd_touch.h), tried on pieces
+      // of 2^-20 and finer (so toi is at most 2^-20 early, as for a window past the piece): a
+      // contact in a window starting at lo, and every earlier piece is cleared, so toi = lo
+      // is not late.
+      if ((P.depth >= kCcdTouchDepth || budget <= 0) && certificate.certify(P.lo, P.hi)) {
         count_touch(long_pass);
         toi = P.lo;
         return Outcome::Hit;

@@ -3,14 +3,16 @@
 /// sign of the cubic or of the inside functions can certify in floating point: a vertex that
 /// passes exactly through an edge of the face, an edge end that passes exactly through the
 /// other edge. They arise when the primitives move in one plane, as on grids folded along a
-/// grid line. The search (geometry/ccd_search.h) tries it on pieces of 2^-36 and finer, before
+/// grid line. The search (geometry/ccd_search.h) tries it on pieces of 2^-20 and finer, before
 /// it would report an undecided contact or start the long-double pass.
 ///
 /// A point p(t) touches the open segment (a(t), b(t)) at some t in the window [lo, hi] when:
 ///  1. the six points p, a, b at t = 0 and t = 1 lie in one plane: three of them (one instant)
 ///     are certainly not collinear, n = (b - a) x (p - a) having a component n_k beyond its
 ///     error bound, and the other three are exactly coplanar with them (exact_orient3d of
-///     geometry/ccd_exact.h, after a floating-point filter). Then p(t), a(t), b(t) lie in that
+///     geometry/ccd_exact.h, after a floating-point filter; once one pair of a query is planar
+///     and the query's fourth point lies in its plane at both instants, every pair is, and
+///     the other pairs need only the first half). Then p(t), a(t), b(t) lie in that
 ///     plane for every t, w(t) = (b - a)(t) x (p - a)(t) is parallel to n, and since n_k != 0,
 ///     w_k(t) = 0 exactly when w(t) = 0;
 ///  2. the quadratic w_k (Bernstein form from the difference vectors, restricted to the window
@@ -72,6 +74,28 @@ inline Bern<2> quad_absdot(const V3<double>& x0, const V3<double>& x1, const V3<
 
 inline double component(const V3<double>& v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 
+// Whether all eight points of a query (four at t = 0, four at t = 1) lie in one plane, found
+// from the first point-segment pair whose six points do: its three base points span the
+// plane and its other three lie in it, so the query's fourth point at both instants decides.
+// Then every other pair whose base points are not collinear lies in that plane too, and its
+// exact tests are skipped.
+struct SharedPlane {
+  const V3<double>* base = nullptr;  ///< the first planar pair's base instant (S.s or S.e)
+  int a = 0, b = 0, p = 0;           ///< its base points: the plane through base[a], base[b], base[p]
+  int state = 0;                     ///< 0: no planar pair yet; 1: found, not tested; 2: all in one; 3: not
+
+  void found(const V3<double>* at, int j, int k, int i) {
+    if (state == 0) base = at, a = j, b = k, p = i, state = 1;
+  }
+  bool all_in_one(const Setup<double>& S) {
+    if (state == 1) {
+      const int rest = 6 - a - b - p;  // the point that is not one of the three
+      state = in_plane(base[a], base[b], base[p], S.s[rest]) && in_plane(base[a], base[b], base[p], S.e[rest]) ? 2 : 3;
+    }
+    return state == 2;
+  }
+};
+
 // Point i of the query against the segment (j, k): the exact part (the plane) once, then the
 // quadratics w_k, r, r' with their error bounds, ready for any window.
 struct PointSegment {
@@ -79,7 +103,8 @@ struct PointSegment {
   Bern<2> q, r, r2;
   double eq = 0, er = 0, er2 = 0;
 
-  void prepare(const Setup<double>& S, int i, int j, int k) {
+  /// `plane`: what the query's earlier pairs found about the plane of all eight points.
+  void prepare(const Setup<double>& S, int i, int j, int k, SharedPlane& plane) {
     // 1. The plane, from the instant where the three points are certainly not collinear.
     const V3<double>*base = S.s, *other = S.e;
     int axis = normal_axis(base[j], base[k], base[i]);
@@ -88,8 +113,11 @@ struct PointSegment {
       axis = normal_axis(base[j], base[k], base[i]);
       if (axis < 0) return;
     }
-    for (const int x : {i, j, k})
-      if (!in_plane(base[j], base[k], base[i], other[x])) return;
+    if (!plane.all_in_one(S)) {
+      for (const int x : {i, j, k})
+        if (!in_plane(base[j], base[k], base[i], other[x])) return;
+      plane.found(base, j, k, i);
+    }
     planar = true;
     // 2-3. The quadratics from the difference vectors at t = 0 and t = 1.
     const V3<double> D0 = S.s[k] - S.s[j], D1 = S.e[k] - S.e[j];  // b - a
@@ -140,7 +168,7 @@ class TouchCertificate {
       touch::PointSegment& ps = pairs_[c];
       if (!(prepared_ >> c & 1u)) {  // the exact part on first use, one pair at a time
         const int* ijk = vf ? kVF[c] : kEE[c];
-        ps.prepare(S_, ijk[0], ijk[1], ijk[2]);
+        ps.prepare(S_, ijk[0], ijk[1], ijk[2], plane_);
         prepared_ |= 1u << c;
       }
       for (int m = 0; m < n && ps.planar; ++m)
@@ -153,6 +181,7 @@ class TouchCertificate {
   const Setup<double>& S_;
   unsigned prepared_ = 0;  ///< bit c: pairs_[c] prepared
   touch::PointSegment pairs_[4];
+  touch::SharedPlane plane_;
 };
 
 }  // namespace mccd::detail

@@ -9,10 +9,12 @@
 
 #include <array>
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <string>
 
 #include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_touch.h>
 #include "support/exact_ccd.h"
 
 using namespace mccd;
@@ -150,4 +152,65 @@ TEST(CcdTouchCertificate, NeverCertifiesAPointBesideTheEdge) {
     }
     EXPECT_GT(t.cases - t.truths, 0);
   }
+}
+
+namespace {
+
+// A point-segment pair prepared on its own (nothing shared with the query's other pairs).
+mccd::detail::touch::PointSegment alone(const mccd::detail::Setup<double>& S, int i, int j, int k) {
+  mccd::detail::touch::PointSegment ps;
+  mccd::detail::touch::SharedPlane fresh;
+  ps.prepare(S, i, j, k, fresh);
+  return ps;
+}
+
+bool same(const mccd::detail::Bern<2>& a, const mccd::detail::Bern<2>& b) {
+  return a.c[0] == b.c[0] && a.c[1] == b.c[1] && a.c[2] == b.c[2];
+}
+
+}  // namespace
+
+TEST(CcdTouchCertificate, SharedPlaneDecidesEveryPairAsItsOwnTestsDo) {
+  // Queries whose eight points lie in one plane, or all but one (moved off it by 2^-30 at one
+  // instant), on grids in tilted planes: the pairs prepared in sequence with the plane the
+  // first planar pair found must come out exactly as each pair prepared alone.
+  using namespace mccd::detail;
+  static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+  static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
+  int planar_pairs = 0, shared_used = 0, off_plane_cases = 0;
+  for (std::uint64_t seed = 0; seed < 600; ++seed) {
+    Rng r(seed);
+    const Plane pl{r.uniform(0, 1) == 0, r.grid(64, 4)};
+    mccd::detail::Setup<double> S{};
+    for (int m = 0; m < 4; ++m)
+      for (V3<double>* at : {&S.s[m], &S.e[m]}) {
+        const Vec3 x = pl.point(r.grid(64, 4), r.grid(64, 4));
+        *at = {x.x(), x.y(), x.z()};
+      }
+    if (seed % 3 == 1) {  // one point off the plane at one instant
+      V3<double>& x = r.uniform(0, 1) ? S.s[r.uniform(0, 3)] : S.e[r.uniform(0, 3)];
+      x.y += 0x1p-30;
+      ++off_plane_cases;
+    }
+    const bool vf = seed % 2 == 0;
+    touch::SharedPlane plane;
+    for (int c = 0; c < (vf ? 3 : 4); ++c) {
+      const int* ijk = vf ? kVF[c] : kEE[c];
+      const bool known = plane.state == 2 || plane.state == 1;
+      touch::PointSegment ps;
+      ps.prepare(S, ijk[0], ijk[1], ijk[2], plane);
+      shared_used += known && plane.state == 2;
+      const touch::PointSegment ref = alone(S, ijk[0], ijk[1], ijk[2]);
+      const std::string what = "seed " + std::to_string(seed) + " pair " + std::to_string(c);
+      ASSERT_EQ(ps.planar, ref.planar) << what;
+      planar_pairs += ps.planar;
+      if (!ps.planar) continue;
+      EXPECT_TRUE(same(ps.q, ref.q) && same(ps.r, ref.r) && same(ps.r2, ref.r2)) << what;
+      EXPECT_EQ(ps.eq, ref.eq) << what;
+    }
+  }
+  std::cout << "[ shared plane ] " << planar_pairs << " planar pairs, " << shared_used << " decided by the plane, "
+            << off_plane_cases << " queries with a point off it\n";
+  EXPECT_GT(shared_used, 300);  // the shortcut is taken
+  EXPECT_GT(planar_pairs, shared_used);
 }
