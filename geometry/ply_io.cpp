@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/mesh_io.h>
 
 #include <mccd/geometry/atomic_file.h>
@@ -164,6 +165,8 @@ void parse_ply_binary(const std::string& path, std::string_view data, bool swap,
       if (is_vertex) {
         const std::size_t o[3] = {offset[L.xyz[0]], offset[L.xyz[1]], offset[L.xyz[2]]};
         const Scalar t[3] = {e.props[L.xyz[0]].type, e.props[L.xyz[1]].type, e.props[L.xyz[2]].type};
+        xyz.reserve(3 * e.count);
+        populate_pages(xyz.data(), 3 * e.count * sizeof(double));  // about to be written in full
         xyz.resize(3 * e.count);
         double* out = xyz.data();
         if (t[0] == Scalar::Float32 && t[1] == Scalar::Float32 && t[2] == Scalar::Float32) {
@@ -181,7 +184,10 @@ void parse_ply_binary(const std::string& path, std::string_view data, bool swap,
       }
       continue;
     }
-    if (is_face) faces.reserve(std::min<std::uint64_t>(e.count, static_cast<std::uint64_t>(end - p) / 4));
+    if (is_face) {
+      faces.reserve(std::min<std::uint64_t>(e.count, static_cast<std::uint64_t>(end - p) / 4));
+      populate_pages(faces.data(), faces.capacity() * sizeof(Triangle));  // about to be written
+    }
     if (is_vertex) xyz.reserve(std::min<std::uint64_t>(3 * e.count, static_cast<std::uint64_t>(end - p)));
     for (std::uint64_t i = 0; i < e.count; ++i) {
       double c[3] = {0, 0, 0};

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/large_allocator.h>
 
 namespace mccd::detail {
 
@@ -39,7 +40,10 @@ std::string read_all(const std::string& path) {
   char buf[1 << 16];
   if (std::fseek(f, 0, SEEK_END) == 0) {
     const long size = std::ftell(f);
-    if (size > 0) data.reserve(static_cast<std::size_t>(size));
+    if (size > 0) {
+      data.reserve(static_cast<std::size_t>(size));
+      detail::populate_pages(data.data(), static_cast<std::size_t>(size));  // megabytes, about to be written
+    }
     std::fseek(f, 0, SEEK_SET);
   }
   std::size_t n;
