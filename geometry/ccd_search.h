@@ -124,6 +124,20 @@ inline bool may_touch_at(const Piece<double>& R, int ng, int end) {
   return true;
 }
 
+// No contact in [lo, a] (a on the grid of 2^-20, so 1 - a is exact): the cubic certainly
+// nonzero, or (d = 0) an inside function certainly negative, or a separating direction, over
+// the whole of it, with the polynomials restricted from the root piece.
+inline bool clear_before(const Setup<double>& S, const Piece<double>& root, int ng, double lo, double a) {
+  if (!(a > lo)) return true;
+  Bern<3, double> f;
+  if (definite_sign(f, restrict_to(root.f, root.ef, lo, a, f) + S.dN) != 0) return true;
+  for (int i = 0; i < ng; ++i) {
+    Bern<4, double> g;
+    if (definite_sign(g, restrict_to(root.g[i], root.eg[i], lo, a, g)) < 0) return true;
+  }
+  return separated(S, lo, a);
+}
+
 // The long-double pass has no touch certificate (its pieces come from the double pass's).
 struct NoTouchCertificate {
   template <class Setup>
@@ -194,6 +208,20 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       if (P.depth >= kCcdCertDepth && long_pass && touches_at_end(*long_pass)) {
         toi = P.lo;
         return Outcome::Hit;
+      }
+    }
+    if constexpr (std::is_same_v<T, double>) {
+      // A jump to a touch (primitives moving in one plane, where the cubic clears nothing): a
+      // window [a, a + 2^-20] of P with a certified touch, and [P.lo, a] cleared in one piece
+      // by the same tests as any piece. Every earlier piece is cleared, so toi = a is not late
+      // and at most 2^-20 early. Tried where a jump to a root would be.
+      if (use_inside && P.depth < kCcdTouchDepth && P.depth % 4 == 0) {
+        const double a = certificate.window_from(P.lo, P.hi);
+        if (a >= 0 && clear_before(S, root, ng, P.lo, a)) {
+          count_touch(long_pass);
+          toi = a;
+          return Outcome::Hit;
+        }
       }
     }
     if constexpr (std::is_same_v<T, double>) {

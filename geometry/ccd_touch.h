@@ -4,7 +4,8 @@
 /// passes exactly through an edge of the face, an edge end that passes exactly through the
 /// other edge. They arise when the primitives move in one plane, as on grids folded along a
 /// grid line. The search (geometry/ccd_search.h) tries it on pieces of 2^-20 and finer, before
-/// it would report an undecided contact or start the long-double pass.
+/// it would report an undecided contact or start the long-double pass, and on coarser pieces
+/// in a window of 2^-20 around where a point crosses a segment's line (window_from).
 ///
 /// A point p(t) touches the open segment (a(t), b(t)) at some t in the window [lo, hi] when:
 ///  1. the six points p, a, b at t = 0 and t = 1 lie in one plane: three of them (one instant)
@@ -133,6 +134,25 @@ struct PointSegment {
     er2 = error_bound(quad_absdot(F0, F1, D0, D1), 12);
   }
 
+  // Where w_k certainly changes sign on [lo, hi] (dyadic): an estimate of that time from the
+  // quadratic restricted there (any estimate is sound: the caller certifies a window), or -1.
+  double crossing(double lo, double hi) const {
+    if (!planar) return -1;
+    Bern<2> w;
+    const double e = restrict_to(q, eq, lo, hi, w);
+    if (!((w.c[0] > e && w.c[2] < -e) || (w.c[0] < -e && w.c[2] > e))) return -1;
+    // w(u) = c0 (1-u)^2 + 2 c1 u (1-u) + c2 u^2 on [0, 1]: a (u^2) + b u + c0 with one root
+    // in (0, 1) (the ends have opposite signs); bisection on the sign keeps it robust.
+    double a = 0, b = 1;
+    const bool neg_first = w.c[0] < 0;
+    for (int it = 0; it < 30; ++it) {
+      const double u = (a + b) / 2, v = 1 - u;
+      const double val = w.c[0] * v * v + 2 * w.c[1] * u * v + w.c[2] * u * u;
+      ((val < 0) == neg_first ? a : b) = u;
+    }
+    return lo + (a + b) / 2 * (hi - lo);
+  }
+
   // The touch within [lo, hi] (dyadic, so 1 - lo and 1 - hi are exact).
   bool touches(double lo, double hi) const {
     if (!planar) return false;
@@ -155,6 +175,36 @@ class TouchCertificate {
   /// A touch certified in a window starting at `lo` (a dyadic piece start on the grid of
   /// 2^-40, `hi` its end): the piece itself, then [lo, lo + 2^-30] and [lo, lo + 2^-20] within
   /// [0, 1], for a touch just past the piece.
+  /// A window [a, a + 2^-20] on the grid of 2^-20, a >= lo, in which a touch is certified,
+  /// found near where a point crosses a segment's line during [lo, hi]: a, or -1. The earliest
+  /// such window over the point-segment pairs.
+  double window_from(double lo, double hi) {
+    static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+    static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
+    constexpr double w = 0x1p-20;
+    const bool vf = S_.kind == CcdKind::VertexFace;
+    double best = -1;
+    for (int c = 0; c < (vf ? 3 : 4); ++c) {
+      touch::PointSegment& ps = pairs_[c];
+      if (!(prepared_ >> c & 1u)) {
+        const int* ijk = vf ? kVF[c] : kEE[c];
+        ps.prepare(S_, ijk[0], ijk[1], ijk[2], plane_);
+        prepared_ |= 1u << c;
+      }
+      const double t = ps.crossing(lo, hi);
+      if (t < 0) continue;
+      const double cell = std::floor(t / w) * w;
+      for (const double a : {cell, cell - w}) {
+        if (a < lo || a + w > 1 || (best >= 0 && a >= best)) continue;
+        if (ps.touches(a, a + w)) {
+          best = a;
+          break;
+        }
+      }
+    }
+    return best;
+  }
+
   bool certify(double lo, double hi) {
     double his[3];
     int n = 0;

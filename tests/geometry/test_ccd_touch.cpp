@@ -15,6 +15,8 @@
 
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_touch.h>
+#include <mccd/core/scene.h>
+#include "fixtures/scenes.h"
 #include "support/exact_ccd.h"
 
 using namespace mccd;
@@ -49,6 +51,7 @@ CcdPoints at_contact(const std::array<Vec3, 4>& x, const std::array<Vec3, 4>& v,
 
 struct Tally {
   int cases = 0, truths = 0, certified = 0, long_pass = 0;
+  long pieces = 0;  ///< search pieces over all cases
 };
 
 // One query: point `x[i]` at parameter `lambda` of the segment (x[j], x[k]) at time tc, every
@@ -93,6 +96,7 @@ void check(bool vf, std::uint64_t seed, bool inside, Tally& t, double offset = 0
     }
   }
   t.long_pass += counters.fallbacks > 0;
+  t.pieces += static_cast<long>(counters.pieces);
   if (counters.touches > 0) {
     ++t.certified;
     EXPECT_TRUE(ref.hit) << what << ": a touch certified where the exact reference finds no contact";
@@ -104,7 +108,8 @@ void run_families(bool vf, Tally& in, Tally& out) {
   for (std::uint64_t s = 0; s < 400; ++s) check(vf, s, true, in);
   for (std::uint64_t s = 1000; s < 1400; ++s) check(vf, s, false, out);
   std::cout << "[ touch " << (vf ? "VF" : "EE") << "] inside: " << in.cases << " cases, " << in.truths
-            << " contacts, " << in.certified << " certified, " << in.long_pass << " to the long-double pass; outside: "
+            << " contacts, " << in.certified << " certified, " << in.long_pass << " to the long-double pass, "
+            << in.pieces << " search pieces; outside: "
             << out.cases << " cases, " << out.truths << " contacts, " << out.certified << " certified\n";
 }
 
@@ -213,4 +218,67 @@ TEST(CcdTouchCertificate, SharedPlaneDecidesEveryPairAsItsOwnTestsDo) {
             << off_plane_cases << " queries with a point off it\n";
   EXPECT_GT(shared_used, 300);  // the shortcut is taken
   EXPECT_GT(planar_pairs, shared_used);
+}
+
+TEST(CcdTouchCertificate, JumpsToATouchInOnePlaneWithoutBisecting) {
+  // A vertex (VF) or an edge end (EE) moving in the plane z = 0 crosses a fixed edge's interior
+  // at t = 0.3 (not on any dyadic grid), every point in that plane: the cubic clears nothing,
+  // so without the window around the crossing the search bisects to pieces of 2^-20. The
+  // contact must be found, not late (the exact reference), at most 2^-20 early, in a few pieces.
+  for (const bool vf : {true, false}) {
+    CcdPoints p;
+    if (vf) {  // vertex, then the face (0,0,0), (1,0,0), (0,1,0); it enters through the edge y = 0
+      p.start = {Vec3(0.2, -0.3, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+      p.end = {Vec3(0.4, 0.7, 0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    } else {  // edge (0,0,0)-(1,0,0), and an edge whose first end crosses it
+      p.start = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, -0.3, 0), Vec3(0.5, -1.3, 0)};
+      p.end = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 0.7, 0), Vec3(0.5, -0.3, 0)};
+    }
+    const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
+    ASSERT_TRUE(ref.hit);
+    CcdCounters counters;
+    double toi = -1;
+    const bool hit = vf ? vertex_face_ccd(p, toi, {}, &counters) : edge_edge_ccd(p, toi, {}, &counters);
+    const std::string what = vf ? "VF" : "EE";
+    ASSERT_TRUE(hit) << what;
+    EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << what << ": toi " << toi << " is late";
+    EXPECT_GE(toi, 0.3 - 0x1p-20 - 1e-15) << what;
+    EXPECT_EQ(counters.touches, 1u) << what;
+    EXPECT_LE(counters.pieces, 6u) << what << ": " << counters.pieces << " pieces";
+  }
+}
+
+TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
+  // The folding cloth, whose halves cross along grid lines (touches in one plane, decided by
+  // the certificate and its windows): every contact of every step, checked against the exact
+  // reference on its own four points: a true contact, its time of impact not late.
+  const AnimatedScene s = make_folding_cloth(16, 9);
+  Scene scene(s.meshes);
+  std::size_t checked = 0, touches = 0;
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    const Positions &x0 = s.frames[f - 1][0], &x1 = s.frames[f][0];
+    const StepResult r = scene.advance(std::vector<PositionsView>(s.frames[f].begin(), s.frames[f].end()));
+    touches += r.stats.vf_ccd.touches + r.stats.ee_ccd.touches;
+    for (const Contact& c : r.contacts) {
+      const bool vf = c.kind == ContactKind::VertexFace;
+      std::array<std::uint32_t, 4> v{};
+      if (vf) {
+        const Triangle& t = s.meshes[0].faces[c.b];
+        v = {c.a, t[0], t[1], t[2]};
+      } else {
+        v = {c.a_vertices[0], c.a_vertices[1], c.b_vertices[0], c.b_vertices[1]};
+      }
+      CcdPoints p;
+      for (int i = 0; i < 4; ++i) p.start[i] = x0.point(v[i]), p.end[i] = x1.point(v[i]);
+      const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
+      const std::string what = "step " + std::to_string(f - 1) + (vf ? " VF " : " EE ") + std::to_string(c.a) + "/" +
+                               std::to_string(c.b) + " toi " + std::to_string(c.toi);
+      ASSERT_TRUE(ref.hit) << what << ": no contact in the exact reference";
+      ASSERT_TRUE(test::time_not_after(c.toi, ref.toi)) << what << ": late";
+      ++checked;
+    }
+  }
+  std::cout << "[ folding cloth ] " << checked << " contacts checked exactly, " << touches << " touches certified\n";
+  EXPECT_GT(checked, 100u);
+  EXPECT_GT(touches, 50u);  // the certificate's paths are exercised
 }
