@@ -175,34 +175,22 @@ class TouchCertificate {
   /// A touch certified in a window starting at `lo` (a dyadic piece start on the grid of
   /// 2^-40, `hi` its end): the piece itself, then [lo, lo + 2^-30] and [lo, lo + 2^-20] within
   /// [0, 1], for a touch just past the piece.
-  /// A window [a, a + 2^-20] on the grid of 2^-20, a >= lo, in which a touch is certified,
-  /// found near where a point crosses a segment's line during [lo, hi]: a, or -1. The earliest
-  /// such window over the point-segment pairs.
-  double window_from(double lo, double hi) {
-    static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
-    static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
+  /// How many point-segment pairs the query has (VF: the vertex and each edge of the face;
+  /// EE: each end and the other edge).
+  int num_pairs() const { return S_.kind == CcdKind::VertexFace ? 3 : 4; }
+
+  /// For pair c: a window [a, a + 2^-20] on the grid of 2^-20, a >= lo, in which a touch is
+  /// certified, found near where the point crosses the segment's line during [lo, hi]: a, or
+  /// -1.
+  double window_from(int c, double lo, double hi) {
     constexpr double w = 0x1p-20;
-    const bool vf = S_.kind == CcdKind::VertexFace;
-    double best = -1;
-    for (int c = 0; c < (vf ? 3 : 4); ++c) {
-      touch::PointSegment& ps = pairs_[c];
-      if (!(prepared_ >> c & 1u)) {
-        const int* ijk = vf ? kVF[c] : kEE[c];
-        ps.prepare(S_, ijk[0], ijk[1], ijk[2], plane_);
-        prepared_ |= 1u << c;
-      }
-      const double t = ps.crossing(lo, hi);
-      if (t < 0) continue;
-      const double cell = std::floor(t / w) * w;
-      for (const double a : {cell, cell - w}) {
-        if (a < lo || a + w > 1 || (best >= 0 && a >= best)) continue;
-        if (ps.touches(a, a + w)) {
-          best = a;
-          break;
-        }
-      }
-    }
-    return best;
+    const touch::PointSegment& ps = prepared(c);
+    const double t = ps.crossing(lo, hi);
+    if (t < 0) return -1;
+    const double cell = std::floor(t / w) * w;
+    for (const double a : {cell, cell - w})
+      if (a >= lo && a + w <= 1 && ps.touches(a, a + w)) return a;
+    return -1;
   }
 
   bool certify(double lo, double hi) {
@@ -211,16 +199,8 @@ class TouchCertificate {
     his[n++] = hi;
     for (const double w : {0x1p-30, 0x1p-20})
       if (lo + w > his[n - 1] && lo + w <= 1) his[n++] = lo + w;
-    static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
-    static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
-    const bool vf = S_.kind == CcdKind::VertexFace;
-    for (int c = 0; c < (vf ? 3 : 4); ++c) {
-      touch::PointSegment& ps = pairs_[c];
-      if (!(prepared_ >> c & 1u)) {  // the exact part on first use, one pair at a time
-        const int* ijk = vf ? kVF[c] : kEE[c];
-        ps.prepare(S_, ijk[0], ijk[1], ijk[2], plane_);
-        prepared_ |= 1u << c;
-      }
+    for (int c = 0; c < num_pairs(); ++c) {
+      const touch::PointSegment& ps = prepared(c);
       for (int m = 0; m < n && ps.planar; ++m)
         if (ps.touches(lo, his[m])) return true;
     }
@@ -228,6 +208,19 @@ class TouchCertificate {
   }
 
  private:
+  /// Pair c, its exact part computed on first use (one pair at a time).
+  const touch::PointSegment& prepared(int c) {
+    static constexpr int kVF[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+    static constexpr int kEE[4][3] = {{0, 2, 3}, {1, 2, 3}, {2, 0, 1}, {3, 0, 1}};
+    touch::PointSegment& ps = pairs_[c];
+    if (!(prepared_ >> c & 1u)) {
+      const int* ijk = S_.kind == CcdKind::VertexFace ? kVF[c] : kEE[c];
+      ps.prepare(S_, ijk[0], ijk[1], ijk[2], plane_);
+      prepared_ |= 1u << c;
+    }
+    return ps;
+  }
+
   const Setup<double>& S_;
   unsigned prepared_ = 0;  ///< bit c: pairs_[c] prepared
   touch::PointSegment pairs_[4];
