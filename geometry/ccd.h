@@ -64,10 +64,11 @@
 ///         certified touch is a contact at toi = the piece's start;
 ///       - on pieces at depths 0, 4, 8, 12 and 16, the same certificate is offered a window
 ///         [a, a + 2^-20] (on the grid of 2^-20, a >= the piece's start) around where a point
-///         crosses a segment's line (the earliest over the point-segment pairs); when it
-///         certifies a touch there and [start, a] is cleared in one piece by the tests of any
-///         piece, the search ends with toi = a: the primitives that move in one plane reach
-///         their touch in a few pieces instead of bisecting down to 2^-20;
+///         crosses a segment's line (the point-segment pairs in turn); when it certifies a
+///         touch there and [start, a] is cleared in one piece by the tests of any piece, the
+///         search ends with toi = a (the first contact lies in the window): the primitives
+///         that move in one plane reach their touch in a few pieces instead of bisecting down
+///         to 2^-20;
 ///       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
 ///         exhausts them is reported as a contact at the start of the current piece.
 ///
