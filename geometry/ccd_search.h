@@ -211,11 +211,11 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       }
     }
     if constexpr (std::is_same_v<T, double>) {
-      // A jump to a touch (primitives moving in one plane: the cubic is zero within its error
-      // bound all over P and clears nothing): a window [a, a + 2^-20] with a certified touch,
-      // and [P.lo, a] cleared in one piece by the same tests as any piece. Every earlier piece
-      // is cleared, so toi = a is not late and at most 2^-20 early. Tried where a jump to a
-      // root would be.
+      // A jump to a touch (for primitives moving in one plane, where the cubic clears
+      // nothing): a window [a, a + 2^-20] with a certified touch, and [P.lo, a] cleared in one
+      // piece by the same tests as any piece. Every earlier piece is cleared, so toi = a is
+      // not late and at most 2^-20 early. Tried where a jump to a root would be; a pair
+      // without a planar certificate costs its exact part once per query.
       if (use_inside && P.depth < kCcdTouchDepth && P.depth % 4 == 0) {
         for (int c = 0; c < certificate.num_pairs(); ++c) {
           const double a = certificate.window_from(c, P.lo, P.hi);

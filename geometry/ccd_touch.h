@@ -97,6 +97,11 @@ struct SharedPlane {
   }
 };
 
+// Whether the quadratic w (error bound e) has ends of certain opposite signs.
+inline bool changes_sign(const Bern<2>& w, double e) {
+  return (w.c[0] > e && w.c[2] < -e) || (w.c[0] < -e && w.c[2] > e);
+}
+
 // Point i of the query against the segment (j, k): the exact part (the plane) once, then the
 // quadratics w_k, r, r' with their error bounds, ready for any window.
 struct PointSegment {
@@ -139,10 +144,9 @@ struct PointSegment {
   double crossing(double lo, double hi) const {
     if (!planar) return -1;
     Bern<2> w;
-    const double e = restrict_to(q, eq, lo, hi, w);
-    if (!((w.c[0] > e && w.c[2] < -e) || (w.c[0] < -e && w.c[2] > e))) return -1;
-    // w(u) = c0 (1-u)^2 + 2 c1 u (1-u) + c2 u^2 on [0, 1]: a (u^2) + b u + c0 with one root
-    // in (0, 1) (the ends have opposite signs); bisection on the sign keeps it robust.
+    if (!changes_sign(w, restrict_to(q, eq, lo, hi, w))) return -1;
+    // w(u) = c0 (1-u)^2 + 2 c1 u (1-u) + c2 u^2 on [0, 1] has an odd number of roots in (0, 1):
+    // bisection on its sign finds one.
     double a = 0, b = 1;
     const bool neg_first = w.c[0] < 0;
     for (int it = 0; it < 30; ++it) {
@@ -157,8 +161,7 @@ struct PointSegment {
   bool touches(double lo, double hi) const {
     if (!planar) return false;
     Bern<2> qw, rw, r2w;
-    const double e = restrict_to(q, eq, lo, hi, qw);
-    if (!((qw.c[0] > e && qw.c[2] < -e) || (qw.c[0] < -e && qw.c[2] > e))) return false;
+    if (!changes_sign(qw, restrict_to(q, eq, lo, hi, qw))) return false;
     return definite_sign(rw, restrict_to(r, er, lo, hi, rw)) > 0 &&
            definite_sign(r2w, restrict_to(r2, er2, lo, hi, r2w)) > 0;
   }
