@@ -20,6 +20,7 @@
 
 #include <mccd/core/bvh.h>
 #include <mccd/core/feature_tests.h>
+#include <mccd/core/unchanged_leaves.h>
 
 namespace mccd::detail {
 
@@ -73,14 +74,40 @@ class OwnedPairs {
   static constexpr unsigned kMaxOwned = 3 * BvhTopology::kMaxLeaf;
   static_assert(kMaxOwned <= 64, "a leaf's owned features as the bits of one 64-bit mask");
 
-  /// `nodes`: the quarter volumes of the BVH nodes.
+  /// `nodes`: the quarter volumes of the BVH nodes; `unchanged`: leaves that repeat the
+  /// previous step (nullptr: none).
   OwnedPairs(const BvhTopology& bvh, const LeafOwnership& owners, const LargeVector<Quarters>& nodes,
-             const FeatureTests<BV, NarrowPhase>& tests)
-      : bvh_(bvh), owners_(owners), nodes_(nodes), tests_(tests) {}
+             const FeatureTests<BV, NarrowPhase>& tests, const UnchangedLeaves* unchanged = nullptr)
+      : bvh_(bvh), owners_(owners), nodes_(nodes), tests_(tests), unchanged_(unchanged) {}
 
   /// Two different BVH leaves whose quarter volumes overlap in the quarters `within`.
   void process(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     if (tests_.query().stopped() || tests_.too_late(within)) return;
+    if (unchanged_ && unchanged_->skip(a, b)) {
+      ++out.stats.repeated_leaf_pairs;
+      return;
+    }
+    const std::size_t found = out.contacts.size();
+    find(a, b, within, out);
+    if (unchanged_ && out.contacts.size() != found) unchanged_->touched(a, b);
+  }
+
+  /// The pairs inside one leaf: its owned vertices against its faces, its owned edges against
+  /// each other.
+  void process_self(std::uint32_t leaf, WorkerOutput& out) const {
+    if (tests_.query().stopped()) return;
+    if (unchanged_ && unchanged_->skip(leaf, leaf)) {
+      ++out.stats.repeated_leaf_pairs;
+      return;
+    }
+    const std::size_t found = out.contacts.size();
+    find_self(leaf, out);
+    if (unchanged_ && out.contacts.size() != found) unchanged_->touched(leaf, leaf);
+  }
+
+ private:
+  /// process() past its skips.
+  void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     const Quarters& qa = nodes_[a];
     const Quarters& qb = nodes_[b];
@@ -114,10 +141,8 @@ class OwnedPairs {
     }
   }
 
-  /// The pairs inside one leaf: its owned vertices against its faces, its owned edges against
-  /// each other.
-  void process_self(std::uint32_t leaf, WorkerOutput& out) const {
-    if (tests_.query().stopped()) return;
+  /// process_self() past its skips.
+  void find_self(std::uint32_t leaf, WorkerOutput& out) const {
     vertices_against(leaf, leaf, nodes_[leaf], 0xF, out);
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t end = owners_.edge_begin(leaf + 1);
@@ -142,7 +167,6 @@ class OwnedPairs {
     }
   }
 
- private:
   /// The vertices leaf `p` owns against the faces of leaf `q` (quarters `qq`).
   void vertices_against(std::uint32_t p, std::uint32_t q, const Quarters& qq, unsigned within,
                         WorkerOutput& out) const {
@@ -233,6 +257,7 @@ class OwnedPairs {
   const LeafOwnership& owners_;
   const LargeVector<Quarters>& nodes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
+  const UnchangedLeaves* unchanged_;
 };
 
 }  // namespace mccd::detail

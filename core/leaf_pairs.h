@@ -23,14 +23,15 @@ class LeafPairs {
 
   using Quarters = QuarterVolume<BV>;
 
-  /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes) and `tests` are owned by the
-  /// caller and outlive this object.
+  /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes), `tests` and `unchanged`
+  /// (leaves that repeat the previous step, leaf rule; nullptr: none) are owned by the caller
+  /// and outlive this object.
   LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
-            const LargeVector<Quarters>& nodes, const Tests& tests)
+            const LargeVector<Quarters>& nodes, const Tests& tests, const UnchangedLeaves* unchanged = nullptr)
       : scene_(scene),
         tests_(tests),
         owned_rule_(scene.representatives() == Representatives::Leaf),
-        owned_(bvh, owners, nodes, tests),
+        owned_(bvh, owners, nodes, tests, unchanged),
         canonical_(bvh, scene.carriers(), nodes, tests) {
     const MeshTopology& topo = scene.topology();
     for (std::uint32_t i = 0; i < bvh.size(); ++i) {

@@ -33,6 +33,7 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   ee_contacts += o.ee_contacts;
   leaf_pairs += o.leaf_pairs;
   adjacent_leaf_pairs += o.adjacent_leaf_pairs;
+  repeated_leaf_pairs += o.repeated_leaf_pairs;
   sprouted += o.sprouted;
   invalidated += o.invalidated;
   rebuilds += o.rebuilds;

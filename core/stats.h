@@ -35,6 +35,10 @@ struct StepStats {
   /// in them is adjacent (their features are the orphan set's); without the orphan set they
   /// would be front nodes (paper equation 5, B_a). 0 under the leaf rule.
   std::uint64_t adjacent_leaf_pairs = 0;
+  /// Leaf rule: leaf pairs and single leaves skipped because every corner of their leaves has
+  /// the previous full step's start and end positions and they found nothing then (parts at
+  /// rest; core/unchanged_leaves.h). Not in leaf_pairs.
+  std::uint64_t repeated_leaf_pairs = 0;
   std::uint64_t sprouted = 0;           ///< front nodes inserted by sprouting this step (S)
   std::uint64_t invalidated = 0;        ///< front nodes that overlapped and were expanded (B)
   std::uint64_t rebuilds = 0;           ///< 1 when the front was built from the root this step

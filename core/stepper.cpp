@@ -42,7 +42,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       nodes_(bvh_.size()),
       owners_(bvh_, scene.topology()),
       tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
-      leaf_(scene, bvh_, owners_, nodes_, tests_),
+      leaf_(scene, bvh_, owners_, nodes_, tests_, &unchanged_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_) {
   const MeshTopology& topo = scene.topology();
   // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
@@ -75,6 +75,14 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
 template <BoundingVolume BV>
 StepResult Stepper<BV>::step(Method method, StepKind kind) {
   method_ = method;
+  full_ = kind == StepKind::Full;
+  // Leaves that repeat the previous step are skipped only right after a full step that
+  // processed its leaf pairs; a query forgets it (its positions are not the scene's).
+  if (full_ && scene_.representatives() == Representatives::Leaf)
+    unchanged_.begin(bvh_.size(), scene_.topology().num_vertices(), repeatable_);
+  else
+    unchanged_.forget();
+  repeatable_ = false;  // until this step completes
   query_.reset(kind);
   result_ = StepResult{};
   result_.stats.method = method;
@@ -89,6 +97,11 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
     self_pairs();
     join();
   }
+  if (full_) {
+    ++full_steps_;
+    if (full_steps_ > 1) unchanged_.end();  // the first full step records no positions
+    repeatable_ = method != Method::BruteForce && scene_.representatives() == Representatives::Leaf;
+  }
   return std::move(result_);
 }
 
@@ -96,8 +109,14 @@ template <BoundingVolume BV>
 void Stepper<BV>::update() {
   const auto t = Clock::now();
   const SceneTopology::Ranges& moving = scene_.moving();
+  // From the second full step on, each vertex against the previous step's positions (a
+  // single step, like toi-check's, pays nothing for it); the volumes of those that repeat
+  // hold from the previous step, which was a full one (UnchangedLeaves::active()).
+  if (full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf)
+    static_for(scene_.topology().num_vertices(), 4096,
+               [&](std::size_t b, std::size_t e) { unchanged_.compare(x0_, x1_, b, e); });
   update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance, moving.vertices, moving.faces,
-                       moving.edges);
+                       moving.edges, unchanged_.active() ? unchanged_.same() : nullptr);
   for (const auto& [b, e] : moving.vertices) result_.stats.updated_vertices += e - b;
   result_.stats.t_update = seconds_since(t);
 }
@@ -105,7 +124,13 @@ void Stepper<BV>::update() {
 template <BoundingVolume BV>
 void Stepper<BV>::refit() {
   const auto t = Clock::now();
-  refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
+  if (unchanged_.active())
+    refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) {
+      // a leaf whose corners all repeat keeps the volume the previous full step gave it
+      return unchanged_.mark_leaf(n, owners_) ? nodes_[n] : leaf_volume(n);
+    });
+  else
+    refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
   result_.stats.t_refit = seconds_since(t);
 }

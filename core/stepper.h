@@ -85,12 +85,16 @@ class Stepper {
   SweptVolumes<BV> swept_;
   QueryState query_;
   Tests tests_;
+  UnchangedLeaves unchanged_;  ///< leaves that repeat the previous full step (leaf rule)
   Leaf leaf_;
   Bvtt<NodeVolume, Leaf> bvtt_;
   BvttFront front_;
 
   // the current step
   Method method_ = Method::Fbd;
+  bool full_ = false;             ///< a full step (not a query)
+  std::uint64_t full_steps_ = 0;  ///< full steps completed
+  bool repeatable_ = false;       ///< the last step was a full step that processed its leaf pairs
   StepResult result_;
   WorkerOutputs units_;  ///< per front block, or per PHC task
   WorkerOutputs self_units_;  ///< per block of the self stage

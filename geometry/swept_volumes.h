@@ -101,15 +101,21 @@ class SweptVolumes {
   }
 
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
-  /// inflated by `min_distance`. Each range writes only its own vertices.
-  void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end) {
-    for (std::size_t v = begin; v != end; ++v) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
+  /// inflated by `min_distance`. Each range writes only its own vertices. `kept` (per vertex
+  /// id; nullptr: none): vertices whose volumes already hold these positions' (the previous
+  /// step's, same positions), left as they are; likewise faces and edges all of whose vertices
+  /// are kept.
+  void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end,
+                       const std::uint8_t* kept = nullptr) {
+    for (std::size_t v = begin; v != end; ++v)
+      if (!kept || !kept[v]) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
   }
 
   /// Faces [begin, end): the merge of their corners' volumes (after update_vertices).
-  void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end) {
+  void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
     for (std::size_t f = begin; f != end; ++f) {
       const Triangle& t = topo.faces()[f];
+      if (kept && kept[t[0]] && kept[t[1]] && kept[t[2]]) continue;
       BV d = BV::merged(vertex(t[0]), vertex(t[1]));
       d.merge(vertex(t[2]));
       face_[layout_.face_slot[f]] = d;
@@ -117,9 +123,10 @@ class SweptVolumes {
   }
 
   /// Edges [begin, end): the merge of their two vertices' quarters (after update_vertices).
-  void update_edges(const MeshTopology& topo, std::size_t begin, std::size_t end) {
+  void update_edges(const MeshTopology& topo, std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
     for (std::size_t e = begin; e != end; ++e) {
       const Edge& ed = topo.edges()[e];
+      if (kept && kept[ed[0]] && kept[ed[1]]) continue;
       edge_quarters_[layout_.edge_slot[e]] = Quarters::merged(vertex_quarters(ed[0]), vertex_quarters(ed[1]));
     }
   }
@@ -129,20 +136,23 @@ class SweptVolumes {
   /// the layout), and an edge or face reads its vertices' volumes near its own (the leaf
   /// layout keeps a leaf's features together). The same values as the updates by id.
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
-                           std::size_t end) {
-    for (std::size_t s = begin; s != end; ++s) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
+                           std::size_t end, const std::uint8_t* kept = nullptr) {
+    for (std::size_t s = begin; s != end; ++s)
+      if (!kept || !kept[vertex_of_slot_[s]]) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
   }
-  void update_face_slots(std::size_t begin, std::size_t end) {
+  void update_face_slots(std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
     for (std::size_t s = begin; s != end; ++s) {
       const Triangle& c = face_corner_slots_[s];
+      if (kept && kept[vertex_of_slot_[c[0]]] && kept[vertex_of_slot_[c[1]]] && kept[vertex_of_slot_[c[2]]]) continue;
       BV d = BV::merged(vertex_[c[0]], vertex_[c[1]]);
       d.merge(vertex_[c[2]]);
       face_[s] = d;
     }
   }
-  void update_edge_slots(std::size_t begin, std::size_t end) {
+  void update_edge_slots(std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
     for (std::size_t s = begin; s != end; ++s) {
       const Edge& c = edge_end_slots_[s];
+      if (kept && kept[vertex_of_slot_[c[0]]] && kept[vertex_of_slot_[c[1]]]) continue;
       edge_quarters_[s] = Quarters::merged(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
     }
   }

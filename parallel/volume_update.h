@@ -28,36 +28,36 @@ void static_for(std::size_t n, std::size_t grain, const Body& body) {
 using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
 
 /// The volumes of the given vertex, face and edge ranges (the moving meshes'; a static mesh's
-/// volumes are computed once).
+/// volumes are computed once). `kept`: see SweptVolumes::update_vertices.
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
-                          const IndexRanges& faces, const IndexRanges& edges) {
+                          const IndexRanges& faces, const IndexRanges& edges, const std::uint8_t* kept = nullptr) {
   constexpr std::size_t kGrain = 4096;
   auto all = [](const IndexRanges& r, std::size_t n) { return r.size() == 1 && r[0].first == 0 && r[0].second == n; };
   if (all(vertices, topo.num_vertices()) && all(faces, topo.num_faces()) && all(edges, topo.num_edges())) {
     // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
     static_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
-      swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e);
+      swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
     });
-    static_for(topo.num_faces(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_face_slots(b, e); });
-    static_for(topo.num_edges(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_edge_slots(b, e); });
+    static_for(topo.num_faces(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_face_slots(b, e, kept); });
+    static_for(topo.num_edges(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_edge_slots(b, e, kept); });
     return;
   }
   // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
   for (const auto& range : vertices) {
     const std::size_t b0 = range.first, e0 = range.second;
     static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
-      swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e);
+      swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
     });
   }
   for (const auto& range : faces) {
     const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b0 + b, b0 + e); });
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b0 + b, b0 + e, kept); });
   }
   for (const auto& range : edges) {
     const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b0 + b, b0 + e); });
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b0 + b, b0 + e, kept); });
   }
 }
 

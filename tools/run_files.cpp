@@ -181,6 +181,7 @@ void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) 
       {"ee_ccd", counters(s.ee_ccd)},
       {"leaf_pairs", s.leaf_pairs},
       {"adjacent_leaf_pairs", s.adjacent_leaf_pairs},
+      {"repeated_leaf_pairs", s.repeated_leaf_pairs},
       {"front_size", s.front_size},
       {"front_bytes", s.front_bytes},
       {"sprouted", s.sprouted},

@@ -29,8 +29,9 @@ std::vector<std::pair<std::string, std::uint64_t>> counts(const StepStats& s) {
       {"feature_box_tests", s.feature_box_tests},       {"vf_tests", s.vf_tests},
       {"ee_tests", s.ee_tests},                         {"vf_contacts", s.vf_contacts},
       {"ee_contacts", s.ee_contacts},                   {"leaf_pairs", s.leaf_pairs},
-      {"adjacent_leaf_pairs", s.adjacent_leaf_pairs},   {"sprouted", s.sprouted},
-      {"invalidated", s.invalidated},                   {"rebuilds", s.rebuilds},
+      {"adjacent_leaf_pairs", s.adjacent_leaf_pairs},   {"repeated_leaf_pairs", s.repeated_leaf_pairs},
+      {"sprouted", s.sprouted},                         {"invalidated", s.invalidated},
+      {"rebuilds", s.rebuilds},
       {"orphan_vf_tested", s.orphan_vf_tested},         {"orphan_ee_tested", s.orphan_ee_tested},
       {"front_size", s.front_size},                     {"front_bytes", s.front_bytes}};
   for (const auto& [kind, c] : {std::pair{"vf", &s.vf_ccd}, std::pair{"ee", &s.ee_ccd}})

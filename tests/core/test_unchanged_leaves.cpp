@@ -1,0 +1,108 @@
+// Leaves that repeat the previous step (core/unchanged_leaves.h): a scene that skips them
+// reports, step by step, the contacts of a scene that has never seen the step before.
+#include <gtest/gtest.h>
+
+#include <mccd/core/scene.h>
+
+#include "fixtures/scenes.h"
+
+using namespace mccd;
+
+namespace {
+
+std::vector<PositionsView> views(const std::vector<Positions>& frame) { return {frame.begin(), frame.end()}; }
+
+/// The step from frame f - 1 to f by a scene built at frame f - 1 (no previous step).
+StepResult fresh_step(const AnimatedScene& a, std::size_t f, Method method = Method::Fbd) {
+  std::vector<TriMesh> meshes = a.meshes;
+  for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].vertices = a.frames[f - 1][m];
+  Scene s(meshes);
+  return s.step(views(a.frames[f - 1]), views(a.frames[f]), method);
+}
+
+/// Two triangles of two meshes, a corner of the second lying inside the first: a contact at
+/// t = 0 in every step while neither moves.
+AnimatedScene resting_contact(std::size_t frames) {
+  AnimatedScene a;
+  TriMesh t1, t2;
+  t1.vertices = Positions({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
+  t1.faces = {{0, 1, 2}};
+  t2.vertices = Positions({Vec3(0.25, 0.25, 0), Vec3(0.25, 0.25, 1), Vec3(1, 1, 1)});
+  t2.faces = {{0, 1, 2}};
+  a.meshes = {t1, t2};
+  for (std::size_t f = 0; f < frames; ++f) a.frames.push_back({t1.vertices, t2.vertices});
+  return a;
+}
+
+}  // namespace
+
+TEST(UnchangedLeaves, TheRestingHalfIsSkippedWithTheSameContacts) {
+  // The folding cloth's left half never moves; the right half folds over and through it.
+  const AnimatedScene a = make_folding_cloth(16, 12);
+  Scene s(a.meshes);
+  std::uint64_t repeated = 0, contacts = 0;
+  for (std::size_t f = 1; f < a.frames.size(); ++f) {
+    const StepResult r = s.advance(views(a.frames[f]));
+    const StepResult fresh = fresh_step(a, f);
+    ASSERT_EQ(r.contacts, fresh.contacts) << "step " << f;
+    EXPECT_EQ(r.earliest_toi, fresh.earliest_toi) << "step " << f;
+    EXPECT_EQ(fresh.stats.repeated_leaf_pairs, 0u);
+    // the positions are known from the second step on, so the third is the first to skip
+    if (f >= 3) EXPECT_GT(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    if (f < 3) EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    repeated += r.stats.repeated_leaf_pairs;
+    contacts += r.contacts.size();
+  }
+  EXPECT_GT(contacts, 0u);
+  EXPECT_GT(repeated, 0u);
+}
+
+TEST(UnchangedLeaves, APairThatFoundAContactIsTestedAgain) {
+  // Nothing moves, and the same contact is there in every step: its leaves are never skipped.
+  const AnimatedScene a = resting_contact(8);
+  Scene s(a.meshes);
+  const StepResult first = s.advance(views(a.frames[1]));
+  ASSERT_EQ(first.contacts.size(), 1u);
+  EXPECT_EQ(first.contacts[0].kind, ContactKind::VertexFace);
+  EXPECT_EQ(first.earliest_toi, 0.0);
+  for (std::size_t f = 2; f < a.frames.size(); ++f) {
+    const StepResult r = s.advance(views(a.frames[f]));
+    EXPECT_EQ(r.contacts, first.contacts) << "step " << f;
+  }
+}
+
+TEST(UnchangedLeaves, QueriesAndBruteForceStepsInBetweenAreNotTrusted) {
+  // A query's positions are not the scene's, and brute force does not process leaf pairs:
+  // the step after either skips nothing, and every step reports what a fresh scene does.
+  const AnimatedScene a = make_folding_cloth(16, 12);
+  Scene s(a.meshes);
+  for (std::size_t f = 1; f < a.frames.size(); ++f) {
+    const bool after_query = f % 4 == 0, brute = f % 5 == 0, after_brute = f % 5 == 1 && f > 1;
+    if (after_query) {
+      // a query on other positions: the previous step's end moved by a little
+      std::vector<Positions> moved = a.frames[f];
+      for (Positions& p : moved)
+        for (std::size_t v = 0; v < p.rows(); ++v) p(v, 2) += 0.001;
+      (void)s.earliest_impact(views(a.frames[f - 1]), views(moved));
+      (void)s.is_collision_free(views(a.frames[f - 1]), views(moved));
+    }
+    const Method m = brute ? Method::BruteForce : Method::Fbd;
+    const StepResult r = s.advance(views(a.frames[f]), m);
+    const StepResult fresh = fresh_step(a, f, m);
+    ASSERT_EQ(r.contacts, fresh.contacts) << "step " << f;
+    if (after_query || brute || after_brute) EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+  }
+}
+
+TEST(UnchangedLeaves, EveryMethodAfterRestingStepsAgrees) {
+  // Steps skipped by one method leave nothing another method would see differently.
+  const AnimatedScene a = make_folding_cloth(12, 10);
+  for (Method m : {Method::Traverse, Method::Phc, Method::Fbd}) {
+    Scene s(a.meshes);
+    for (std::size_t f = 1; f < a.frames.size(); ++f) {
+      const Method mf = f % 2 ? m : Method::Fbd;
+      const StepResult r = s.advance(views(a.frames[f]), mf);
+      ASSERT_EQ(r.contacts, fresh_step(a, f, Method::BruteForce).contacts) << to_string(m) << " step " << f;
+    }
+  }
+}
