@@ -57,8 +57,17 @@ inline int normal_axis(const V3<double>& a, const V3<double>& b, const V3<double
   return axis;
 }
 
+// Four points with one coordinate equal lie in a plane normal to that axis, so their
+// orientation is exactly zero: no expansion needed (grids folded along a grid line keep one
+// coordinate of a line's points equal, bit for bit).
+inline bool share_coordinate(const V3<double>& a, const V3<double>& b, const V3<double>& c, const V3<double>& d) {
+  return (a.x == b.x && a.x == c.x && a.x == d.x) || (a.y == b.y && a.y == c.y && a.y == d.y) ||
+         (a.z == b.z && a.z == c.z && a.z == d.z);
+}
+
 // x lies exactly in the plane through a, b, p (not collinear).
 inline bool in_plane(const V3<double>& a, const V3<double>& b, const V3<double>& p, const V3<double>& x) {
+  if (share_coordinate(a, b, p, x)) return true;
   const V3<double> B = b - a, C = p - a, D = x - a;
   const double det = dot(B, cross(C, D));
   if (std::fabs(det) > 16 * kU * absdot(B, across(vabs(C), vabs(D))) + kTiny) return false;

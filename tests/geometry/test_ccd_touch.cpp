@@ -282,3 +282,27 @@ TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
   EXPECT_GT(checked, 100u);
   EXPECT_GT(touches, 50u);  // the certificate's paths are exercised
 }
+
+TEST(CcdTouch, InPlaneIsTheExactOrientationTestWithOrWithoutASharedCoordinate) {
+  // Points on a coarse grid (many exactly coplanar quadruples, some sharing a coordinate, some
+  // in slanted planes): in_plane, with its shortcut for four points with one coordinate equal,
+  // says what the exact orientation test says, whenever the first three are not collinear.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(-2, 2);
+  auto point = [&] {
+    return mccd::detail::V3<double>{0.375 * pick(rng), 0.375 * pick(rng), 0.375 * pick(rng)};
+  };
+  int shared = 0, planar = 0;
+  for (int i = 0; i < 20000; ++i) {
+    mccd::detail::V3<double> a = point(), b = point(), p = point(), x = point();
+    if (i % 3 == 0) x.y = b.y = p.y = a.y;  // one coordinate shared by all four
+    if (mccd::detail::touch::normal_axis(a, b, p) < 0) continue;
+    using mccd::detail::touch::vec;
+    const bool exact = mccd::detail::exact_orient3d(vec(a), vec(b), vec(p), vec(x)) == 0;
+    ASSERT_EQ(mccd::detail::touch::in_plane(a, b, p, x), exact) << i;
+    shared += mccd::detail::touch::share_coordinate(a, b, p, x);
+    planar += exact;
+  }
+  EXPECT_GT(shared, 1000);
+  EXPECT_GT(planar, shared + 100) << "coplanar quadruples in slanted planes too";
+}
