@@ -113,7 +113,7 @@ void Stepper<BV>::update() {
   // single step, like toi-check's, pays nothing for it); the volumes of those that repeat
   // hold from the previous step, which was a full one (UnchangedLeaves::active()).
   if (full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf)
-    static_for(scene_.topology().num_vertices(), 4096,
+    dynamic_for(scene_.topology().num_vertices(), 4096,
                [&](std::size_t b, std::size_t e) { unchanged_.compare(x0_, x1_, b, e); });
   update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance, moving.vertices, moving.faces,
                        moving.edges, unchanged_.active() ? unchanged_.same() : nullptr);
