@@ -19,7 +19,6 @@
 ///  4. leaf pairs and single leaves ask skip(), and mark the leaves of every pair that finds a
 ///     contact (relaxed atomic stores of 1: several blocks may mark one leaf).
 #include <atomic>
-#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <memory>
