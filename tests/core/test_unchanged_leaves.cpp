@@ -48,8 +48,11 @@ TEST(UnchangedLeaves, TheRestingHalfIsSkippedWithTheSameContacts) {
     EXPECT_EQ(r.earliest_toi, fresh.earliest_toi) << "step " << f;
     EXPECT_EQ(fresh.stats.repeated_leaf_pairs, 0u);
     // the positions are known from the second step on, so the third is the first to skip
-    if (f >= 3) EXPECT_GT(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
-    if (f < 3) EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    if (f >= 3) {
+      EXPECT_GT(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    } else {
+      EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    }
     repeated += r.stats.repeated_leaf_pairs;
     contacts += r.contacts.size();
   }
@@ -90,7 +93,9 @@ TEST(UnchangedLeaves, QueriesAndBruteForceStepsInBetweenAreNotTrusted) {
     const StepResult r = s.advance(views(a.frames[f]), m);
     const StepResult fresh = fresh_step(a, f, m);
     ASSERT_EQ(r.contacts, fresh.contacts) << "step " << f;
-    if (after_query || brute || after_brute) EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    if (after_query || brute || after_brute) {
+      EXPECT_EQ(r.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    }
   }
 }
 
