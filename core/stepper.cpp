@@ -63,6 +63,13 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
   bool any_static = false;
   for (std::size_t m = 0; m < scene.num_meshes(); ++m) any_static = any_static || scene.mesh_options(m).is_static;
   if (any_static) {
+    // Their leaves always repeat the previous step (core/unchanged_leaves.h).
+    std::vector<std::uint8_t> fixed(bvh_.size(), 0);
+    for (std::uint32_t n = 0; n < bvh_.size(); ++n) {
+      const std::uint32_t m = bvh_.mesh_of_node(n);
+      fixed[n] = bvh_.leaf(n) && m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
+    }
+    unchanged_.set_static(std::move(fixed));
     const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
     update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });

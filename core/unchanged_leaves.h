@@ -8,7 +8,8 @@
 /// method but brute force processes every overlapping leaf pair), and found nothing. Such a
 /// pair, and such a leaf's own pairs, are skipped. Parts of a scene at rest (the folding
 /// cloth's unmoving half, a draped cloth that has settled, an environment given as deforming)
-/// then cost a flag test per leaf pair instead of their feature tests.
+/// then cost a flag test per leaf pair instead of their feature tests. The leaves of static
+/// meshes always repeat, so a resting mesh's pairs with them are skipped too.
 ///
 /// Per step (full steps only; a query step neither uses nor changes this):
 ///  1. begin(): the previous step's contacts are in `touched` (set by the leaf pairs and
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <mccd/geometry/large_allocator.h>
@@ -34,6 +36,10 @@ class UnchangedLeaves {
   /// Whether this step may skip (set by begin()).
   bool active() const { return active_; }
 
+  /// The leaves of static meshes (per BVH node, 1 for such a leaf): their positions never
+  /// change (the scene checks it), so they always repeat; the refit never visits them.
+  void set_static(std::vector<std::uint8_t> leaves) { static_ = std::move(leaves); }
+
   /// A full step starts: `usable` when the previous step was a full step that processed its
   /// leaf pairs (not brute force) and completed. Then the previous step's marks become
   /// touched_before; the marks are cleared either way.
@@ -42,7 +48,7 @@ class UnchangedLeaves {
       touched_ = std::make_unique<std::atomic<std::uint8_t>[]>(num_nodes);
       touched_size_ = num_nodes;
       touched_before_.assign(num_nodes, 0);
-      unchanged_.assign(num_nodes, 0);
+      unchanged_ = static_.size() == num_nodes ? static_ : std::vector<std::uint8_t>(num_nodes, 0);
       usable = false;
     }
     if (same_.size() != num_vertices) {
@@ -115,6 +121,7 @@ class UnchangedLeaves {
   LargeVector<double> prev0_, prev1_;  ///< the previous full step's start and end, interleaved
   std::vector<std::uint8_t> same_;   ///< per vertex: repeats the previous step
   std::vector<std::uint8_t> unchanged_, touched_before_;  ///< per BVH node (leaves)
+  std::vector<std::uint8_t> static_;  ///< per BVH node: a leaf of a static mesh
   std::unique_ptr<std::atomic<std::uint8_t>[]> touched_;  ///< per BVH node: this step's marks
   std::size_t touched_size_ = 0;
 };

@@ -111,3 +111,41 @@ TEST(UnchangedLeaves, EveryMethodAfterRestingStepsAgrees) {
     }
   }
 }
+
+TEST(UnchangedLeaves, AClothAtRestOnAStaticBallSkipsItsPairsWithTheBall) {
+  // A cloth lying across a static ball (given the same positions every frame) and a second
+  // cloth that keeps folding: from the third step on, the resting cloth's pairs, with itself
+  // and with the static ball's leaves, are all skipped; the contacts are a fresh scene's.
+  const AnimatedScene folding = make_folding_cloth(10, 8);
+  TriMesh rest = make_grid_mesh(12, 1.0);
+  // tilted 0.005 above the sphere (the coarse ball lies inside it): eight leaf pairs of the two
+  // overlap, the triangles never meet
+  for (std::size_t v = 0; v < rest.vertices.rows(); ++v) rest.vertices(v, 2) = 2.947 + 0.3 * rest.vertices(v, 0);
+  const TriMesh ball = make_sphere_mesh(6, 8, 0.5, Vec3(0.0, 0.0, 2.42));
+  AnimatedScene a;
+  a.meshes = {folding.meshes[0], rest, ball};
+  for (const std::vector<Positions>& f : folding.frames) a.frames.push_back({f[0], rest.vertices, ball.vertices});
+  SceneOptions o;
+  o.meshes = {MeshOptions{}, MeshOptions{}, MeshOptions{true, false}};
+  Scene s(a.meshes, o);
+  SceneOptions ro;
+  ro.meshes = {MeshOptions{}, MeshOptions{true, false}};
+  Scene r2({rest, ball}, ro);
+  std::uint64_t contacts = 0;
+  for (std::size_t f = 1; f < a.frames.size(); ++f) {
+    const StepResult r = s.advance(views(a.frames[f]));
+    std::vector<TriMesh> meshes = a.meshes;
+    for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].vertices = a.frames[f - 1][m];
+    Scene fresh(meshes, o);
+    ASSERT_EQ(r.contacts, fresh.step(views(a.frames[f - 1]), views(a.frames[f])).contacts) << "step " << f;
+    // the resting cloth and the ball alone: nothing is left to test from the third step on
+    const StepResult q = r2.advance(std::vector<PositionsView>{rest.vertices, ball.vertices});
+    EXPECT_TRUE(q.contacts.empty());
+    if (f >= 3) {
+      EXPECT_EQ(q.stats.leaf_pairs, 0u) << "step " << f;
+      EXPECT_GT(q.stats.repeated_leaf_pairs, 0u) << "step " << f;
+    }
+    contacts += r.contacts.size();
+  }
+  EXPECT_GT(contacts, 0u);
+}
