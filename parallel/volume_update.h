@@ -17,28 +17,30 @@
 
 namespace mccd::detail {
 
-template <class Body>
-void static_for(std::size_t n, std::size_t grain, const Body& body) {
+/// body(begin, end) over chunks of about `grain` of [0, n) under `partitioner`; a range of at
+/// most one grain runs on the calling thread, without a task.
+template <class Body, class Partitioner>
+void chunked_for(std::size_t n, std::size_t grain, const Body& body, const Partitioner& partitioner) {
   if (n <= grain) {
     if (n) body(std::size_t(0), n);
     return;
   }
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, n, grain),
-      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, tbb::static_partitioner());
+      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, partitioner);
 }
 
-/// body(begin, end) over chunks of about `grain` of [0, n), dealt out dynamically: a thread that
-/// the host stalls (a busy virtual machine) leaves its chunks to the others.
+/// Chunks under a static partition (the set-up's one-off loops).
+template <class Body>
+void static_for(std::size_t n, std::size_t grain, const Body& body) {
+  chunked_for(n, grain, body, tbb::static_partitioner());
+}
+
+/// Chunks dealt out dynamically: a thread that the host stalls (a busy virtual machine) leaves
+/// its chunks to the others.
 template <class Body>
 void dynamic_for(std::size_t n, std::size_t grain, const Body& body) {
-  if (n <= grain) {
-    if (n) body(std::size_t(0), n);
-    return;
-  }
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, n, grain),
-      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, tbb::simple_partitioner());
+  chunked_for(n, grain, body, tbb::simple_partitioner());
 }
 
 using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
