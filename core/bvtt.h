@@ -7,12 +7,18 @@
 /// and leaf pairs. Under the canonical representative rule, leaf pairs of adjacent triangles
 /// only stop without a test and are never in the front: their features are the orphan set's
 /// (core/orphans.h). Pairs inside one leaf are the self stage's (core/leaf_pairs.h).
+///
+/// Self-collision culling (core/self_culling.h): a self node of a node certified this step, or
+/// under one, stops without a test; the front keeps it, and a front node whose two nodes lie
+/// under one certified node stays in the front untested. A kept self node that is no longer
+/// covered is expanded like an overlapping front node.
 #include <cstdint>
 #include <vector>
 
 #include <mccd/core/bvh.h>
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
+#include <mccd/core/self_culling.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/kdop.h>
@@ -32,9 +38,10 @@ namespace mccd::detail {
 template <class NodeVolume, class Leaf>
 class Bvtt {
  public:
+  /// `culling`: the step's self-collision certificates (nullptr: none).
   Bvtt(const BvhTopology& bvh, const LargeVector<NodeVolume>& volumes, const SceneTopology& scene, const Leaf& leaf,
-       const QueryState& query)
-      : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query) {}
+       const QueryState& query, const SelfCulling* culling = nullptr)
+      : bvh_(bvh), volumes_(volumes), scene_(scene), leaf_(leaf), query_(query), culling_(culling) {}
 
   const BvhTopology& bvh() const { return bvh_; }
 
@@ -45,6 +52,11 @@ class Bvtt {
     if (scene_.has_skipped_pairs() && skipped(n)) return;
     if (n.a == n.b) {
       if (bvh_.leaf(n.a)) return;  // pairs inside one leaf: the self stage's
+      if (culling_ && culling_->covered(n.a)) {
+        ++out.stats.culled_nodes;
+        if constexpr (record) out.front.push_back(n);
+        return;
+      }
       const std::uint32_t l = bvh_.left(n.a), r = bvh_.right(n.a);
       next.push_back({l, r});
       next.push_back({r, r});
@@ -102,6 +114,18 @@ class Bvtt {
   void track(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
     for (const NodePair* it = begin; it != end; ++it) {
       const NodePair n = *it;
+      if (culled(n, out)) {
+        out.front.push_back(n);
+        continue;
+      }
+      if (n.a == n.b) {  // a self node kept while it was covered
+        ++out.stats.invalidated;
+        const std::size_t before = out.front.size();
+        out.stack.push_back(n);
+        traverse<true>(out);
+        out.stats.sprouted += out.front.size() - before;
+        continue;
+      }
       ++out.stats.volume_tests;
       const unsigned ov = quarters(n);
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
@@ -124,6 +148,12 @@ class Bvtt {
   void track_readonly(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
     for (const NodePair* it = begin; it != end && !query_.stopped(); ++it) {
       const NodePair n = *it;
+      if (culled(n, out)) continue;
+      if (n.a == n.b) {
+        out.stack.push_back(n);
+        traverse<false>(out);
+        continue;
+      }
       ++out.stats.volume_tests;
       const unsigned ov = quarters(n);
       if (!ov) continue;
@@ -137,6 +167,13 @@ class Bvtt {
   }
 
  private:
+  /// Whether front node n is covered by a patch certified this step (counted).
+  bool culled(const NodePair& n, WorkerOutput& out) const {
+    if (!culling_ || !(n.a == n.b ? culling_->covered(n.a) : culling_->covers(n.a, n.b))) return false;
+    ++out.stats.culled_nodes;
+    return true;
+  }
+
   /// The quarters of the step in which the volumes of the pair's two nodes overlap.
   [[gnu::always_inline]] unsigned quarters(const NodePair& n) const {
     return volumes_[n.a].overlap_mask(volumes_[n.b]);
@@ -154,6 +191,7 @@ class Bvtt {
   const SceneTopology& scene_;
   const Leaf& leaf_;
   const QueryState& query_;
+  const SelfCulling* culling_;
 };
 
 }  // namespace mccd::detail

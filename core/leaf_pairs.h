@@ -13,6 +13,7 @@
 #include <mccd/core/leaf_owners.h>
 #include <mccd/core/orphans.h>
 #include <mccd/core/scene_topology.h>
+#include <mccd/core/self_culling.h>
 
 namespace mccd::detail {
 
@@ -24,12 +25,15 @@ class LeafPairs {
   using Quarters = QuarterVolume<BV>;
 
   /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes), `tests` and `unchanged`
-  /// (leaves that repeat the previous step, leaf rule; nullptr: none) are owned by the caller
-  /// and outlive this object.
+  /// (leaves that repeat the previous step, leaf rule; nullptr: none) and `culling` (the step's
+  /// self-collision certificates; nullptr: none) are owned by the caller and outlive this
+  /// object.
   LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
-            const LargeVector<Quarters>& nodes, const Tests& tests, const UnchangedLeaves* unchanged = nullptr)
+            const LargeVector<Quarters>& nodes, const Tests& tests, const UnchangedLeaves* unchanged = nullptr,
+            const SelfCulling* culling = nullptr)
       : scene_(scene),
         tests_(tests),
+        culling_(culling),
         owned_rule_(scene.representatives() == Representatives::Leaf),
         owned_(bvh, owners, nodes, tests, unchanged),
         canonical_(bvh, scene.carriers(), nodes, tests) {
@@ -70,7 +74,12 @@ class LeafPairs {
   /// the non-adjacent triangle pairs inside each leaf.
   void process_self(std::size_t begin, std::size_t end, WorkerOutput& out) const {
     if (owned_rule_) {
-      for (std::size_t i = begin; i != end; ++i) owned_.process_self(self_leaves_[i], out);
+      for (std::size_t i = begin; i != end; ++i) {
+        if (culling_ && culling_->covered(self_leaves_[i]))
+          ++out.stats.culled_nodes;  // certified to hold no self-collision this step
+        else
+          owned_.process_self(self_leaves_[i], out);
+      }
       return;
     }
     if (begin == end) return;
@@ -81,6 +90,7 @@ class LeafPairs {
  private:
   const SceneTopology& scene_;
   const Tests& tests_;
+  const SelfCulling* culling_;
   bool owned_rule_;
   OwnedPairs<BV, NarrowPhase> owned_;
   CanonicalPairs<BV, NarrowPhase> canonical_;

@@ -93,6 +93,11 @@ struct SceneOptions {
   std::vector<MeshOptions> meshes;
   /// Report pairs that come within this distance (finite, >= 0) as contacts.
   double min_distance = 0.0;
+  /// Skip the pairs inside patches of a mesh certified, each step, to be unable to touch
+  /// themselves (a disk whose triangles keep their orientation seen along one axis and whose
+  /// boundary, seen along it, stays a simple curve; core/self_culling.h). Exact: contacts do
+  /// not change. Used only under the leaf rule and without a minimum distance.
+  bool self_culling = true;
   /// Where the parallel stages run; nullptr: the caller's arena. mccd never creates a
   /// global_control and never changes the arena's concurrency.
   tbb::task_arena* arena = nullptr;

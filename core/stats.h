@@ -39,6 +39,13 @@ struct StepStats {
   /// the previous full step's start and end positions and they found nothing then (parts at
   /// rest; core/unchanged_leaves.h). Not in leaf_pairs.
   std::uint64_t repeated_leaf_pairs = 0;
+  /// Leaf rule: BVH nodes certified this step to hold no self-collision (their patch is a
+  /// disk whose projection along an axis stays one-to-one; core/self_culling.h), each covering
+  /// its subtree.
+  std::uint64_t culled_patches = 0;
+  /// BVTT nodes skipped because a certified patch holds both their sides: self nodes, front
+  /// nodes and single leaves. Not in leaf_pairs nor volume_tests.
+  std::uint64_t culled_nodes = 0;
   std::uint64_t sprouted = 0;           ///< front nodes inserted by sprouting this step (S)
   std::uint64_t invalidated = 0;        ///< front nodes that overlapped and were expanded (B)
   std::uint64_t rebuilds = 0;           ///< 1 when the front was built from the root this step
@@ -46,7 +53,7 @@ struct StepStats {
   std::uint64_t orphan_ee_tested = 0;
   std::uint64_t front_size = 0;         ///< front nodes after the step (fbd only)
   std::uint64_t front_bytes = 0;        ///< bytes held by the front buffers (fbd only)
-  /// Stage times: volume update, refit, candidate search with leaf pairs and elementary tests
+  /// Stage times: volume update, refit (with the self-collision certificates), candidate search with leaf pairs and elementary tests
   /// (front tracking, traversal or brute force), the self stage (t_orphans: the pairs no front
   /// node holds, concurrent with the search: each leaf's own pairs under the leaf rule, the
   /// orphan set and the pairs inside leaves under the canonical rule), the join of contacts into

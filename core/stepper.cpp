@@ -42,8 +42,11 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       nodes_(bvh_.size()),
       owners_(bvh_, scene.topology()),
       tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
-      leaf_(scene, bvh_, owners_, nodes_, tests_, &unchanged_),
-      bvtt_(bvh_, nodes_, scene, leaf_, query_) {
+      culling_(options.self_culling && options.min_distance == 0 && scene.representatives() == Representatives::Leaf
+                   ? SelfCulling(bvh_, scene)
+                   : SelfCulling()),
+      leaf_(scene, bvh_, owners_, nodes_, tests_, &unchanged_, &culling_),
+      bvtt_(bvh_, nodes_, scene, leaf_, query_, &culling_) {
   const MeshTopology& topo = scene.topology();
   // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
   // scene constructs its stepper in its arena).
@@ -139,6 +142,12 @@ void Stepper<BV>::refit() {
   else
     refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
+  if (culling_.possible() && method_ != Method::BruteForce) {
+    culling_.certify(bvh_, scene_.topology(), x0_, x1_);
+    result_.stats.culled_patches = culling_.certified();
+  } else {
+    culling_.clear();
+  }
   result_.stats.t_refit = seconds_since(t);
 }
 

@@ -6,6 +6,7 @@
 ///  1. update: the positions of the step's two ends become swept volumes per vertex, edge and
 ///     face (parallel/volume_update.h);
 ///  2. refit: the BVH's node volumes, bottom-up under a static partition (parallel/refit.h);
+///     then the patches certified to hold no self-collision this step (core/self_culling.h);
 ///  3. search, by method: brute force (core/brute_force.h); a serial traversal from the root;
 ///     PHC (parallel/phc.h); or FBD: front tracking in parallel blocks (parallel/
 ///     front_tracking.h), building the front from the root first when the rebuild rule says
@@ -26,6 +27,7 @@
 #include <mccd/core/options.h>
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
+#include <mccd/core/self_culling.h>
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/refit.h>
 #include <mccd/parallel/step_graph.h>
@@ -86,6 +88,7 @@ class Stepper {
   QueryState query_;
   Tests tests_;
   UnchangedLeaves unchanged_;  ///< leaves that repeat the previous full step (leaf rule)
+  SelfCulling culling_;        ///< patches certified free of self-collision (leaf rule)
   Leaf leaf_;
   Bvtt<NodeVolume, Leaf> bvtt_;
   BvttFront front_;

@@ -182,6 +182,8 @@ void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) 
       {"leaf_pairs", s.leaf_pairs},
       {"adjacent_leaf_pairs", s.adjacent_leaf_pairs},
       {"repeated_leaf_pairs", s.repeated_leaf_pairs},
+      {"culled_patches", s.culled_patches},
+      {"culled_nodes", s.culled_nodes},
       {"front_size", s.front_size},
       {"front_bytes", s.front_bytes},
       {"sprouted", s.sprouted},

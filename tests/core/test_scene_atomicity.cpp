@@ -30,6 +30,7 @@ std::vector<std::pair<std::string, std::uint64_t>> counts(const StepStats& s) {
       {"ee_tests", s.ee_tests},                         {"vf_contacts", s.vf_contacts},
       {"ee_contacts", s.ee_contacts},                   {"leaf_pairs", s.leaf_pairs},
       {"adjacent_leaf_pairs", s.adjacent_leaf_pairs},   {"repeated_leaf_pairs", s.repeated_leaf_pairs},
+      {"culled_patches", s.culled_patches},             {"culled_nodes", s.culled_nodes},
       {"sprouted", s.sprouted},                         {"invalidated", s.invalidated},
       {"rebuilds", s.rebuilds},
       {"orphan_vf_tested", s.orphan_vf_tested},         {"orphan_ee_tested", s.orphan_ee_tested},

@@ -1,0 +1,93 @@
+#pragma once
+/// @file Internal: self-collision culling by normal cones and contours, certified exactly.
+///
+/// A patch of one mesh cannot touch itself during a step when, for one coordinate axis d,
+///  1. every triangle of the patch, projected along d onto the other two coordinates, keeps one
+///     strict orientation over the whole step (the d component of its normal has one sign at
+///     every time: the three Bernstein coefficients of that quadratic, each certain of its sign
+///     under a rounding-error bound), and
+///  2. the patch's boundary, projected the same way, stays a simple closed curve over the whole
+///     step (no two of its edges ever meet but two consecutive ones at their common vertex),
+/// provided the patch is a topological disk (connected, edge- and vertex-manifold,
+/// consistently oriented, one boundary cycle). At any time the projection is then a local
+/// homeomorphism of the disk, orientation-preserving, whose boundary maps onto a simple closed
+/// curve; by the degree argument every point of the plane has at most one preimage: the
+/// projection is injective, so no two distinct points of the patch coincide, and no vertex
+/// meets a face it is not a corner of, nor an edge one it shares no end with. The projections
+/// along an axis need no arithmetic (a coordinate is dropped), so the only rounding is in the
+/// orientation and contour tests, each of which is bounded.
+///
+/// Which BVH nodes' triangles form such disks, and their boundary cycles, depends only on
+/// connectivity and is found once (bottom-up: two disks that share one boundary arc form a
+/// disk). Every step then certifies top-down: the first disk node on each path from the root
+/// whose triangles share an axis sign (condition 1, per triangle, combined up the tree) and
+/// whose contour passes (condition 2) covers its subtree. A BVTT self node or pair node whose
+/// nodes are both under one covered node holds only feature pairs of that patch: it is skipped,
+/// and so is a covered leaf's own pairs. Culling is exact: it removes only pairs that cannot
+/// touch, so contacts do not change (tests compare against brute force).
+///
+/// Not used with a minimum distance (injectivity says nothing about how close two parts come)
+/// nor under the paper's canonical rule (its experiments stay as they were).
+#include <cstdint>
+#include <vector>
+
+#include <mccd/core/bvh.h>
+#include <mccd/core/scene_topology.h>
+#include <mccd/geometry/positions.h>
+
+namespace mccd::detail {
+
+class SelfCulling {
+ public:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  /// No node can be culled.
+  SelfCulling() = default;
+  /// Finds the disk nodes of `bvh` among the meshes with self-collision of `scene`.
+  SelfCulling(const BvhTopology& bvh, const SceneTopology& scene);
+
+  /// Whether any node is a disk (otherwise certify() has nothing to do).
+  bool possible() const { return disks_ != 0; }
+  std::size_t num_disks() const { return disks_; }
+
+  /// Certifies the nodes for the step x0 -> x1 (global vertex ids); until end_step(), covered()
+  /// answers for this step. Serial over the tree's top, parallel over its leaves.
+  void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1);
+  /// Nothing is covered (a step that does not cull: brute force, or culling off).
+  void clear() { active_ = false; }
+
+  /// Whether BVH node n lies under (or is) a node certified this step.
+  bool covered(std::uint32_t n) const { return active_ && top_[n] != kNone; }
+  /// Whether nodes a and b lie under one node certified this step (every feature pair between
+  /// them is inside that patch).
+  bool covers(std::uint32_t a, std::uint32_t b) const { return active_ && top_[a] != kNone && top_[a] == top_[b]; }
+  /// Nodes certified this step (the topmost ones, each covering its subtree).
+  std::uint64_t certified() const { return active_ ? certified_ : 0; }
+
+  /// The boundary cycle of disk node n (vertex ids in order, the patch on the left when the
+  /// mesh's faces are counter-clockwise), or an empty range when n is not a disk.
+  const std::uint32_t* cycle_begin(std::uint32_t n) const { return cycle_.data() + cycle_offset_[n]; }
+  const std::uint32_t* cycle_end(std::uint32_t n) const { return cycle_.data() + cycle_offset_[n + 1]; }
+  bool disk(std::uint32_t n) const { return cycle_offset_[n + 1] != cycle_offset_[n]; }
+
+  /// The signs a triangle keeps along each axis over a step, as bits (bit 2d: the d component
+  /// of its normal positive at every time; bit 2d + 1: negative), each certain under its
+  /// rounding bound. Exposed for the tests.
+  static unsigned normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
+                               const Vec3& c1);
+  /// Whether the closed polyline `cycle` (vertex ids), projected along axis d, stays simple
+  /// over the step x0 -> x1. Exposed for the tests.
+  static bool contour_simple(const std::uint32_t* begin, const std::uint32_t* end, unsigned axis, const Positions& x0,
+                             const Positions& x1);
+
+ private:
+  std::vector<std::uint32_t> cycle_offset_;  ///< CSR over nodes; empty range: not a disk
+  std::vector<std::uint32_t> cycle_;
+  std::size_t disks_ = 0;
+  std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
+  std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
+  std::uint64_t certified_ = 0;
+  bool active_ = false;
+};
+
+}  // namespace mccd::detail

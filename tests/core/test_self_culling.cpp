@@ -1,0 +1,229 @@
+// Self-collision culling (core/self_culling.h): which BVH nodes are disks, the certified
+// orientation and contour tests, and scenes that report the same contacts with and without it.
+#include <mccd/core/bvh.h>
+#include <mccd/core/scene.h>
+#include <mccd/core/self_culling.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "fixtures/scenes.h"
+#include "fixtures/shapes.h"
+
+using namespace mccd;
+using namespace mccd::detail;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Built {
+  SceneFaces faces;
+  SceneTopology scene;
+  BvhTopology bvh;
+  Built(const std::vector<TriMesh>& meshes, unsigned leaf)
+      : faces(scene_faces(meshes)), scene(faces, {}, Representatives::Leaf), bvh(make_bvh(meshes, faces, leaf)) {}
+  static BvhTopology make_bvh(const std::vector<TriMesh>& meshes, const SceneFaces& f, unsigned leaf) {
+    Positions x(f.vertex_offsets.back());
+    for (std::size_t m = 0; m < meshes.size(); ++m)
+      for (std::size_t v = 0; v < meshes[m].vertices.rows(); ++v)
+        x.set_point(f.vertex_offsets[m] + v, meshes[m].vertices.point(v));
+    return BvhTopology(triangle_bounds(f.faces, x), BvhBuild::Sah, leaf, f.face_offsets);
+  }
+};
+
+std::vector<PositionsView> views(const std::vector<Positions>& frame) { return {frame.begin(), frame.end()}; }
+
+/// A strip wound like a ramp of a parking garage, 1.25 turns in 8 segments (16 triangles, one
+/// BVH leaf of 16): seen from above it covers part of itself, and every triangle faces up. Its
+/// height per turn goes from `pitch0` to `pitch1`.
+AnimatedScene spiral_ramp(double pitch0, double pitch1, int frames) {
+  const int na = 8, nr = 1;
+  const double turns = 1.25;
+  TriMesh m;
+  auto id = [&](int a, int r) { return static_cast<std::uint32_t>(a * (nr + 1) + r); };
+  for (int a = 0; a < na; ++a)
+    for (int r = 0; r < nr; ++r) {
+      // counter-clockwise seen from above: (angle, radius) is a left-handed chart, so swap
+      m.faces.push_back({id(a, r), id(a + 1, r + 1), id(a + 1, r)});
+      m.faces.push_back({id(a, r), id(a, r + 1), id(a + 1, r + 1)});
+    }
+  auto positions = [&](double pitch) {
+    Positions p((na + 1) * (nr + 1));
+    for (int a = 0; a <= na; ++a)
+      for (int r = 0; r <= nr; ++r) {
+        const double th = 2 * kPi * turns * a / na, rad = 1.0 + 0.5 * r / nr;
+        p.set_point(id(a, r), Vec3(rad * std::cos(th), rad * std::sin(th), pitch * th / (2 * kPi)));
+      }
+    return p;
+  };
+  m.vertices = positions(pitch0);
+  AnimatedScene s;
+  s.meshes = {m};
+  for (int f = 0; f < frames; ++f) {
+    const double u = double(f) / (frames - 1);
+    s.frames.push_back({positions(pitch0 + u * (pitch1 - pitch0))});
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(SelfCulling, AGridIsADiskAtEveryNodeAndASphereIsNotAtItsRoot) {
+  const TriMesh grid = make_grid_mesh(12);  // 12 x 12 quads
+  Built g({grid}, 12);
+  SelfCulling c(g.bvh, g.scene);
+  ASSERT_TRUE(c.disk(0));
+  // the root's cycle: the grid's 48 boundary vertices, each once, consecutive ones joined by
+  // a boundary edge
+  const std::set<std::uint32_t> cycle(c.cycle_begin(0), c.cycle_end(0));
+  EXPECT_EQ(c.cycle_end(0) - c.cycle_begin(0), 48);
+  EXPECT_EQ(cycle.size(), 48u);
+  const MeshTopology& topo = g.scene.topology();
+  for (const std::uint32_t* v = c.cycle_begin(0); v != c.cycle_end(0); ++v) {
+    const std::uint32_t w = v + 1 == c.cycle_end(0) ? *c.cycle_begin(0) : v[1];
+    const std::int64_t e = topo.find_edge(*v, w);
+    ASSERT_GE(e, 0);
+    EXPECT_EQ(topo.edge_face_count(static_cast<std::size_t>(e)), 1u);
+  }
+  std::size_t disks = 0;
+  for (std::uint32_t n = 0; n < g.bvh.size(); ++n) disks += c.disk(n);
+  EXPECT_GT(disks, g.bvh.size() / 2);
+
+  Built s({make_sphere_mesh(8, 16)}, 4);
+  SelfCulling cs(s.bvh, s.scene);
+  EXPECT_FALSE(cs.disk(0));  // closed: no boundary
+  EXPECT_GT(cs.num_disks(), 0u);
+  // without self-collision nothing is a candidate
+  SceneTopology off(s.faces, {MeshOptions{false, false}}, Representatives::Leaf);
+  EXPECT_EQ(SelfCulling(s.bvh, off).num_disks(), 0u);
+}
+
+TEST(SelfCulling, NormalSignsHoldOverTheWholeStepOnly) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  // counter-clockwise in the xy plane, still: +z certain, nothing along x or y
+  EXPECT_EQ(SelfCulling::normal_signs(a, b, c, a, b, c), 1u << 4);
+  // clockwise: -z
+  EXPECT_EQ(SelfCulling::normal_signs(a, c, b, a, c, b), 2u << 4);
+  // tilting within the step keeps +z when the normal never turns past the plane
+  const Vec3 c1(0, 1, 0.5);
+  EXPECT_TRUE(SelfCulling::normal_signs(a, b, c, a, b, c1) & (1u << 4));
+  // a triangle flipped over during the step (c goes to the other side of ab): no sign
+  const Vec3 flipped(0, -1, 0);
+  EXPECT_EQ(SelfCulling::normal_signs(a, b, c, a, b, flipped) & (3u << 4), 0u);
+  // a triangle that is degenerate at the start: no sign, though it is fine at the end
+  EXPECT_EQ(SelfCulling::normal_signs(a, b, Vec3(2, 0, 0), a, b, c) & (3u << 4), 0u);
+  // the same orientation at both ends, but b and c turn half a turn about a and meet it
+  // halfway (the triangle is a point there): the middle coefficient leaves no sign
+  const Vec3 b1(-1, 0, 0), c2(0, -1, 0);
+  EXPECT_EQ(SelfCulling::normal_signs(a, b, c, a, b1, c2) & (3u << 4), 0u);
+  // the same turn about the middle of the far edge keeps it a proper triangle: +z holds
+  EXPECT_TRUE(SelfCulling::normal_signs(a, b, c, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0.2)) & (1u << 4));
+}
+
+TEST(SelfCulling, ContourTestsFollowTheMotion) {
+  // a square in the xy plane, then the same square with one corner moved across the opposite
+  // edge by the end of the step
+  Positions x0({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0.5, 0.5, 0)});
+  const std::uint32_t square[] = {0, 1, 2, 3};
+  EXPECT_TRUE(SelfCulling::contour_simple(square, square + 4, 2, x0, x0));
+  // seen along x or y it is a segment: not simple
+  EXPECT_FALSE(SelfCulling::contour_simple(square, square + 4, 0, x0, x0));
+  Positions x1 = x0;
+  x1.set_point(2, Vec3(-0.5, 1, 0));  // corner 2 ends beyond edge 3 -> 0
+  EXPECT_FALSE(SelfCulling::contour_simple(square, square + 4, 2, x0, x1));
+  // a bow tie: 0 1 3 2 crosses itself
+  const std::uint32_t bow[] = {0, 1, 3, 2};
+  EXPECT_FALSE(SelfCulling::contour_simple(bow, bow + 4, 2, x0, x0));
+  // a long zigzag boundary whose non-neighbouring edges' boxes touch but a line separates
+  // them: simple
+  // (a staircase of unit steps, as a grid's patches have, and the same one 3 higher)
+  Positions z(20);
+  std::vector<std::uint32_t> zig;
+  for (int i = 0; i < 10; ++i) {
+    z.set_point(static_cast<std::size_t>(i), Vec3((i + 1) / 2, i % 2, 0));
+    z.set_point(static_cast<std::size_t>(19 - i), Vec3((i + 1) / 2, 3 + i % 2, 0));
+  }
+  for (std::uint32_t i = 0; i < 20; ++i) zig.push_back(i);
+  EXPECT_TRUE(SelfCulling::contour_simple(zig.data(), zig.data() + zig.size(), 2, z, z));
+  // the spiral ramp's whole boundary seen from above covers itself
+  const AnimatedScene ramp = spiral_ramp(0.4, 0.4, 2);
+  Built b(ramp.meshes, 16);
+  ASSERT_TRUE(b.bvh.leaf(0));
+  SelfCulling c(b.bvh, b.scene);
+  ASSERT_TRUE(c.disk(0));
+  EXPECT_FALSE(SelfCulling::contour_simple(c.cycle_begin(0), c.cycle_end(0), 2, ramp.frames[0][0], ramp.frames[0][0]));
+}
+
+TEST(SelfCulling, ASpiralRampThatCollapsesIsNotCulled) {
+  // Every triangle of the ramp faces up through the step, so only the contour test keeps
+  // the ramp (one leaf) from being certified; its upper turn passes through the lower one.
+  // Beside it a flat grid, certified every step, keeps culling busy.
+  const AnimatedScene ramp = spiral_ramp(0.4, -0.3, 4);
+  AnimatedScene a = ramp;
+  TriMesh grid = make_grid_mesh(8, 1.0);
+  for (std::size_t v = 0; v < grid.vertices.rows(); ++v) grid.vertices(v, 2) = 5.0;
+  a.meshes.push_back(grid);
+  for (auto& f : a.frames) f.push_back(grid.vertices);
+  SceneOptions on, off;
+  on.leaf_size = off.leaf_size = 16;
+  off.self_culling = false;
+  for (Method m : {Method::Traverse, Method::Phc, Method::Fbd}) {
+    Scene s(a.meshes, on), plain(a.meshes, off);
+    std::uint64_t contacts = 0, certified = 0;
+    for (std::size_t f = 1; f < a.frames.size(); ++f) {
+      const StepResult r = s.advance(views(a.frames[f]), m);
+      const StepResult p = plain.advance(views(a.frames[f]), Method::BruteForce);
+      ASSERT_EQ(r.contacts, p.contacts) << to_string(m) << " step " << f;
+      EXPECT_EQ(p.stats.culled_patches, 0u);
+      contacts += r.contacts.size();
+      certified += r.stats.culled_patches;
+    }
+    EXPECT_GT(contacts, 0u);
+    EXPECT_GT(certified, 0u) << "the grid is certified";
+  }
+}
+
+TEST(SelfCulling, GeneratedScenesReportTheContactsOfBruteForce) {
+  // Every method with culling, step by step, against brute force (which never culls), and
+  // fbd against fbd without culling.
+  for (const char* name : {"spheres", "cloth", "drape", "tube"}) {
+    const AnimatedScene a = make_scene(name, 2, 8);
+    SceneOptions off;
+    off.self_culling = false;
+    Scene plain(a.meshes, off);
+    Scene fbd(a.meshes), phc(a.meshes), trav(a.meshes), brute(a.meshes);
+    std::uint64_t certified = 0, culled = 0;
+    for (std::size_t f = 1; f < a.frames.size(); ++f) {
+      const StepResult p = plain.advance(views(a.frames[f]));
+      const StepResult r = fbd.advance(views(a.frames[f]));
+      ASSERT_EQ(r.contacts, p.contacts) << name << " step " << f;
+      EXPECT_EQ(r.earliest_toi, p.earliest_toi) << name << " step " << f;
+      ASSERT_EQ(phc.advance(views(a.frames[f]), Method::Phc).contacts, p.contacts) << name << " step " << f;
+      ASSERT_EQ(trav.advance(views(a.frames[f]), Method::Traverse).contacts, p.contacts) << name << " step " << f;
+      ASSERT_EQ(brute.step(views(a.frames[f - 1]), views(a.frames[f]), Method::BruteForce).contacts, p.contacts)
+          << name << " step " << f;
+      EXPECT_EQ(p.stats.culled_patches + p.stats.culled_nodes, 0u);
+      certified += r.stats.culled_patches;
+      culled += r.stats.culled_nodes;
+    }
+    EXPECT_GT(certified, 0u) << name;
+    if (std::string(name) == "spheres") {
+      EXPECT_GT(culled, 0u) << name;
+    }
+  }
+}
+
+TEST(SelfCulling, NotUsedWithAMinimumDistance) {
+  const AnimatedScene a = make_scene("spheres", 2, 3);
+  SceneOptions o;
+  o.min_distance = 1e-3;
+  Scene s(a.meshes, o);
+  for (std::size_t f = 1; f < a.frames.size(); ++f) {
+    const StepResult r = s.advance(views(a.frames[f]));
+    EXPECT_EQ(r.stats.culled_patches, 0u);
+    EXPECT_EQ(r.stats.culled_nodes, 0u);
+  }
+}
