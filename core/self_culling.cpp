@@ -4,10 +4,10 @@
 #include <array>
 #include <cmath>
 #include <numeric>
-#include <unordered_map>
-#include <unordered_set>
 
 #include <mccd/parallel/volume_update.h>
+
+#include <oneapi/tbb/parallel_invoke.h>
 
 namespace mccd::detail {
 
@@ -23,14 +23,11 @@ constexpr double kTiny = 0x1p-900;
 /// The sign a quadratic in Bernstein form keeps on [0, 1], when its three coefficients share
 /// one with certainty: +1, -1, or 0 (not certain). `v`: computed coefficients; `e`: the sums of
 /// the magnitudes of their products.
-int bernstein_sign(const std::array<double, 3>& v, const std::array<double, 3>& e) {
-  if (std::min({e[0], e[1], e[2]}) <= kTiny) return 0;
-  bool pos = true, neg = true;
-  for (int k = 0; k < 3; ++k) {
-    pos = pos && v[k] > kBound * e[k];
-    neg = neg && v[k] < -kBound * e[k];
-  }
-  return pos ? 1 : neg ? -1 : 0;
+[[gnu::always_inline]] inline int bernstein_sign(const std::array<double, 3>& v, const std::array<double, 3>& e) {
+  const bool pos = (v[0] > kBound * e[0]) & (v[1] > kBound * e[1]) & (v[2] > kBound * e[2]);
+  const bool neg = (v[0] < -kBound * e[0]) & (v[1] < -kBound * e[1]) & (v[2] < -kBound * e[2]);
+  const bool normal = (e[0] > kTiny) & (e[1] > kTiny) & (e[2] > kTiny);
+  return normal ? int(pos) - int(neg) : 0;
 }
 
 using P2 = std::array<double, 2>;
@@ -38,7 +35,8 @@ using P2 = std::array<double, 2>;
 /// The Bernstein coefficients (and their error scales) of dot(A(t), B(t)) (`cross` false) or
 /// cross(A(t), B(t)), with A and B linear in t from A0, B0 to A1, B1 (the middle coefficient
 /// doubled, which keeps its sign).
-int product_sign(const P2& a0, const P2& b0, const P2& a1, const P2& b1, bool cross) {
+template <bool cross>
+[[gnu::always_inline]] inline int product_sign(const P2& a0, const P2& b0, const P2& a1, const P2& b1) {
   auto term = [&](const P2& a, const P2& b, double& mag) {
     const double p = a[0] * (cross ? b[1] : b[0]);
     const double q = a[1] * (cross ? b[0] : b[1]);
@@ -60,18 +58,20 @@ std::vector<std::uint8_t> regular_faces(const MeshTopology& topo) {
     return faces[f][0] == v ? 0u : faces[f][1] == v ? 1u : 2u;
   };
   std::vector<std::uint8_t> edge_ok(topo.num_edges(), 0);
-  for (std::size_t e = 0; e < topo.num_edges(); ++e) {
-    const std::uint32_t n = topo.edge_face_count(e);
-    if (n == 1) {
-      edge_ok[e] = 1;
-    } else if (n == 2) {
-      const std::uint32_t f = topo.edge_faces_begin(e)[0], g = topo.edge_faces_begin(e)[1];
-      unsigned kf = 0, kg = 0;
-      while (topo.face_edges(f)[kf] != e) ++kf;
-      while (topo.face_edges(g)[kg] != e) ++kg;
-      edge_ok[e] = faces[f][kf] == faces[g][(kg + 1) % 3];  // f has a -> b, g has b -> a
+  dynamic_for(topo.num_edges(), 8192, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e) {
+      const std::uint32_t n = topo.edge_face_count(e);
+      if (n == 1) {
+        edge_ok[e] = 1;
+      } else if (n == 2) {
+        const std::uint32_t f = topo.edge_faces_begin(e)[0], g = topo.edge_faces_begin(e)[1];
+        unsigned kf = 0, kg = 0;
+        while (topo.face_edges(f)[kf] != e) ++kf;
+        while (topo.face_edges(g)[kg] != e) ++kg;
+        edge_ok[e] = faces[f][kf] == faces[g][(kg + 1) % 3];  // f has a -> b, g has b -> a
+      }
     }
-  }
+  });
   // The other face across edge e from f, or -1 at a boundary.
   auto across = [&](std::uint32_t e, std::uint32_t f) -> std::int64_t {
     if (topo.edge_face_count(e) != 2) return -1;
@@ -79,44 +79,49 @@ std::vector<std::uint8_t> regular_faces(const MeshTopology& topo) {
     return g[0] == f ? g[1] : g[0];
   };
   std::vector<std::uint8_t> vertex_ok(topo.num_vertices(), 0);
-  for (std::uint32_t v = 0; v < topo.num_vertices(); ++v) {
-    const std::size_t k = topo.vertex_face_count(v);
-    if (k == 0) continue;
-    bool ok = true;
-    for (const std::uint32_t* f = topo.vertex_faces_begin(v); f != topo.vertex_faces_end(v); ++f)
-      for (unsigned c = 0; c < 3; ++c)
-        if (faces[*f][c] == v) ok = ok && edge_ok[topo.face_edges(*f)[c]] && edge_ok[topo.face_edges(*f)[(c + 2) % 3]];
-    if (!ok) continue;
-    // Walk around v across the edges at v: first leaving each face by its edge v -> next,
-    // then, at a boundary, the other way; one fan when the walk meets every face.
-    const std::uint32_t f0 = *topo.vertex_faces_begin(v);
-    std::size_t seen = 1;
-    bool closed = false;
-    for (std::uint32_t f = f0; seen <= k;) {
-      const std::int64_t g = across(topo.face_edges(f)[corner(f, v)], f);
-      if (g < 0) break;
-      if (g == f0) {
-        closed = true;
-        break;
-      }
-      f = static_cast<std::uint32_t>(g);
-      ++seen;
-    }
-    if (!closed)
+  dynamic_for(topo.num_vertices(), 8192, [&](std::size_t begin, std::size_t end) {
+    for (std::uint32_t v = static_cast<std::uint32_t>(begin); v < end; ++v) {
+      const std::size_t k = topo.vertex_face_count(v);
+      if (k == 0) continue;
+      bool ok = true;
+      for (const std::uint32_t* f = topo.vertex_faces_begin(v); f != topo.vertex_faces_end(v); ++f)
+        for (unsigned c = 0; c < 3; ++c)
+          if (faces[*f][c] == v)
+            ok = ok && edge_ok[topo.face_edges(*f)[c]] && edge_ok[topo.face_edges(*f)[(c + 2) % 3]];
+      if (!ok) continue;
+      // Walk around v across the edges at v: first leaving each face by its edge v -> next,
+      // then, at a boundary, the other way; one fan when the walk meets every face.
+      const std::uint32_t f0 = *topo.vertex_faces_begin(v);
+      std::size_t seen = 1;
+      bool closed = false;
       for (std::uint32_t f = f0; seen <= k;) {
-        const std::int64_t g = across(topo.face_edges(f)[(corner(f, v) + 2) % 3], f);
-        if (g < 0 || g == f0) break;
+        const std::int64_t g = across(topo.face_edges(f)[corner(f, v)], f);
+        if (g < 0) break;
+        if (g == f0) {
+          closed = true;
+          break;
+        }
         f = static_cast<std::uint32_t>(g);
         ++seen;
       }
-    vertex_ok[v] = seen == k;
-  }
+      if (!closed)
+        for (std::uint32_t f = f0; seen <= k;) {
+          const std::int64_t g = across(topo.face_edges(f)[(corner(f, v) + 2) % 3], f);
+          if (g < 0 || g == f0) break;
+          f = static_cast<std::uint32_t>(g);
+          ++seen;
+        }
+      vertex_ok[v] = seen == k;
+    }
+  });
   std::vector<std::uint8_t> ok(topo.num_faces(), 0);
-  for (std::size_t f = 0; f < topo.num_faces(); ++f) {
-    bool r = true;
-    for (unsigned c = 0; c < 3; ++c) r = r && vertex_ok[faces[f][c]] && edge_ok[topo.face_edges(f)[c]];
-    ok[f] = r;
-  }
+  dynamic_for(topo.num_faces(), 8192, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      bool r = true;
+      for (unsigned c = 0; c < 3; ++c) r = r && vertex_ok[faces[f][c]] && edge_ok[topo.face_edges(f)[c]];
+      ok[f] = r;
+    }
+  });
   return ok;
 }
 
@@ -127,14 +132,15 @@ std::uint64_t key(std::uint32_t a, std::uint32_t b) { return std::uint64_t(a) <<
 /// an empty vector.
 std::vector<std::uint32_t> one_cycle(const std::vector<DirectedEdge>& edges) {
   if (edges.size() < 3) return {};
-  std::unordered_map<std::uint32_t, std::uint32_t> next;
-  next.reserve(edges.size() * 2);
-  for (const auto& [a, b] : edges)
-    if (!next.emplace(a, b).second) return {};
+  thread_local std::vector<DirectedEdge> next;  // (from, to), sorted
+  next.assign(edges.begin(), edges.end());
+  std::sort(next.begin(), next.end());
+  for (std::size_t i = 1; i < next.size(); ++i)
+    if (next[i].first == next[i - 1].first) return {};  // a vertex left twice
   std::vector<std::uint32_t> cycle{edges[0].first};
   for (std::uint32_t v = edges[0].first;;) {
-    const auto it = next.find(v);
-    if (it == next.end()) return {};
+    const auto it = std::lower_bound(next.begin(), next.end(), DirectedEdge{v, 0});
+    if (it == next.end() || it->first != v) return {};
     v = it->second;
     if (v == edges[0].first) break;
     if (cycle.size() == edges.size()) return {};
@@ -144,72 +150,112 @@ std::vector<std::uint32_t> one_cycle(const std::vector<DirectedEdge>& edges) {
   return cycle;
 }
 
-/// The boundary cycle of a leaf's faces when they form a disk (connected, Euler
-/// characteristic 1, one simple boundary cycle), or an empty vector. The faces are regular
-/// (regular_faces), so an edge has at most two faces, in opposite directions.
-std::vector<std::uint32_t> leaf_cycle(const std::vector<Triangle>& faces, const std::uint32_t* ids, std::uint32_t n) {
-  std::vector<DirectedEdge> all, boundary;
-  std::vector<std::uint32_t> vertices;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const Triangle& t = faces[ids[i]];
-    for (unsigned c = 0; c < 3; ++c) {
-      all.emplace_back(t[c], t[(c + 1) % 3]);
-      vertices.push_back(t[c]);
-    }
-  }
-  std::sort(vertices.begin(), vertices.end());
-  const std::size_t nv = static_cast<std::size_t>(std::unique(vertices.begin(), vertices.end()) - vertices.begin());
-  // Faces joined across their shared edges (union-find).
-  std::vector<std::uint32_t> parent(n);
+/// Each face's connected component of its mesh (faces joined across shared edges).
+std::vector<std::uint32_t> face_components(const MeshTopology& topo) {
+  std::vector<std::uint32_t> parent(topo.num_faces());
   std::iota(parent.begin(), parent.end(), 0u);
   auto root = [&](std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    bool interior = false;
-    for (std::size_t j = 0; j < all.size(); ++j)
-      if (all[j].first == all[i].second && all[j].second == all[i].first) {
-        interior = true;
-        parent[root(static_cast<std::uint32_t>(i / 3))] = root(static_cast<std::uint32_t>(j / 3));
-      }
-    if (!interior) boundary.push_back(all[i]);
-  }
-  for (std::uint32_t i = 1; i < n; ++i)
-    if (root(i) != root(0)) return {};
-  const std::size_t ne = (all.size() + boundary.size()) / 2;
-  if (nv + n != ne + 1) return {};  // V - E + F = 1
-  return one_cycle(boundary);
+  for (std::size_t e = 0; e < topo.num_edges(); ++e)
+    for (const std::uint32_t* f = topo.edge_faces_begin(e) + 1; f < topo.edge_faces_end(e); ++f)
+      parent[root(*f)] = root(topo.edge_faces_begin(e)[0]);
+  for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = root(f);
+  return parent;
 }
 
-/// The boundary cycle of the union of two disks when it is a disk: they share vertices and
-/// edges only on their boundaries (the faces are regular), their union is connected and has
-/// Euler characteristic 1 + 1 - (V - E of the shared part) = 1, and one simple boundary cycle.
-std::vector<std::uint32_t> union_cycle(const std::vector<std::uint32_t>& l, const std::vector<std::uint32_t>& r) {
-  std::unordered_set<std::uint32_t> lv(l.begin(), l.end());
-  std::unordered_set<std::uint64_t> re;
-  re.reserve(r.size() * 2);
-  std::size_t shared_v = 0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    shared_v += lv.count(r[i]);
-    re.insert(key(r[i], r[(i + 1) % r.size()]));
+/// What the disk test needs of a node's triangles, all in one component of their mesh and
+/// regular (regular_faces): the directed edges of their boundary (each edge of one of their
+/// faces whose other face is not theirs) and their Euler characteristic V - E + F.
+/// Triangles of one mesh component share a vertex or an edge only on both boundaries.
+/// A patch whose boundary is one simple cycle is connected (each of its components is a
+/// proper part of the mesh component, or a whole one without boundary, so each has a boundary
+/// of its own), and with characteristic 1 it is a disk.
+struct Patch {
+  std::vector<DirectedEdge> boundary;
+  std::int64_t chi = 0;
+  std::uint32_t component = 0;
+  bool valid = false;
+};
+
+Patch leaf_patch(const std::vector<Triangle>& faces, const std::uint32_t* ids, std::uint32_t n) {
+  Patch p;
+  constexpr unsigned kMax = 3 * BvhTopology::kMaxLeaf;
+  std::uint64_t keys[kMax];
+  std::uint32_t vertices[kMax];
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Triangle& t = faces[ids[i]];
+    for (unsigned c = 0; c < 3; ++c) {
+      keys[3 * i + c] = key(t[c], t[(c + 1) % 3]);
+      vertices[3 * i + c] = t[c];
+    }
   }
-  std::unordered_set<std::uint64_t> cancelled;
-  std::vector<DirectedEdge> edges;
-  for (std::size_t i = 0; i < l.size(); ++i) {
-    const std::uint32_t a = l[i], b = l[(i + 1) % l.size()];
-    if (re.count(key(a, b))) return {};  // one edge in the same direction: not oriented alike
-    if (re.count(key(b, a)))
-      cancelled.insert(key(b, a));
+  const std::size_t m = 3 * n;
+  std::sort(keys, keys + m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::uint32_t a = static_cast<std::uint32_t>(keys[i] >> 32), b = static_cast<std::uint32_t>(keys[i]);
+    if (!std::binary_search(keys, keys + m, key(b, a))) p.boundary.emplace_back(a, b);
+  }
+  std::sort(vertices, vertices + m);
+  const std::size_t nv = static_cast<std::size_t>(std::unique(vertices, vertices + m) - vertices);
+  const std::size_t ne = (m + p.boundary.size()) / 2;
+  p.chi = static_cast<std::int64_t>(nv + n) - static_cast<std::int64_t>(ne);
+  p.valid = true;
+  return p;
+}
+
+/// The union of two patches of one mesh component: shared edges leave the boundary, and the
+/// characteristic is the sum less that of the shared part (its vertices less its edges).
+Patch union_patch(const Patch& l, const Patch& r) {
+  Patch u;
+  auto sorted = [](std::vector<std::uint64_t>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  };
+  auto has = [](const std::vector<std::uint64_t>& v, std::uint64_t k) {
+    return std::binary_search(v.begin(), v.end(), k);
+  };
+  thread_local std::vector<std::uint64_t> re, rv, lv, cancelled;  // scratch kept from call to call
+  re.clear();
+  rv.clear();
+  lv.clear();
+  cancelled.clear();
+  for (const auto& [a, b] : r.boundary) {
+    re.push_back(key(a, b));
+    rv.push_back(a);
+  }
+  sorted(re);
+  for (const auto& [a, b] : l.boundary) {
+    lv.push_back(a);
+    if (has(re, key(a, b))) return u;  // one edge in the same direction: not oriented alike
+    if (has(re, key(b, a)))
+      cancelled.push_back(key(b, a));
     else
-      edges.emplace_back(a, b);
+      u.boundary.emplace_back(a, b);
   }
-  if (shared_v == 0 || shared_v != cancelled.size() + 1) return {};
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const std::uint32_t a = r[i], b = r[(i + 1) % r.size()];
-    if (!cancelled.count(key(a, b))) edges.emplace_back(a, b);
+  sorted(cancelled);
+  for (const auto& [a, b] : r.boundary)
+    if (!has(cancelled, key(a, b))) u.boundary.emplace_back(a, b);
+  // Every vertex of a boundary starts one of its edges.
+  sorted(lv);
+  sorted(rv);
+  std::size_t shared_v = 0;
+  for (std::size_t i = 0, j = 0; i < lv.size() && j < rv.size();) {
+    if (lv[i] < rv[j]) {
+      ++i;
+    } else if (rv[j] < lv[i]) {
+      ++j;
+    } else {
+      ++shared_v;
+      ++i;
+      ++j;
+    }
   }
-  return one_cycle(edges);
+  u.chi = l.chi + r.chi - (static_cast<std::int64_t>(shared_v) - static_cast<std::int64_t>(cancelled.size()));
+  u.component = l.component;
+  u.valid = true;
+  return u;
 }
 
 }  // namespace
@@ -218,19 +264,50 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
   const MeshTopology& topo = scene.topology();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const std::vector<std::uint8_t> regular = regular_faces(topo);
+  const std::vector<std::uint32_t> component = face_components(topo);
+  std::vector<std::uint32_t> triangles_below(n, 0);  // filled bottom-up with the patches
+  auto triangles = [&](std::uint32_t i) {
+    return bvh.leaf(i) ? bvh.leaf_count(i) : triangles_below[bvh.left(i)] + triangles_below[bvh.right(i)];
+  };
+  std::vector<Patch> patches(n);
   std::vector<std::vector<std::uint32_t>> cycles(n);
-  for (std::uint32_t i = n; i-- > 0;) {
+  // Bottom-up; subtrees of the top in parallel (each node writes only its own entries).
+  auto node = [&](std::uint32_t i) {
+    triangles_below[i] = triangles(i);
     const std::uint32_t m = bvh.mesh_of_node(i);
-    if (m == BvhTopology::kMixed || scene.skips(m, m)) continue;
+    if (m == BvhTopology::kMixed || scene.skips(m, m)) return;
+    Patch& p = patches[i];
     if (bvh.leaf(i)) {
       const std::uint32_t* ids = bvh.leaf_triangles(i);
       bool ok = true;
-      for (std::uint32_t k = 0; k < bvh.leaf_count(i); ++k) ok = ok && regular[ids[k]];
-      if (ok) cycles[i] = leaf_cycle(topo.faces(), ids, bvh.leaf_count(i));
-    } else if (!cycles[bvh.left(i)].empty() && !cycles[bvh.right(i)].empty()) {
-      cycles[i] = union_cycle(cycles[bvh.left(i)], cycles[bvh.right(i)]);
+      for (std::uint32_t k = 0; k < bvh.leaf_count(i); ++k)
+        ok = ok && regular[ids[k]] && component[ids[k]] == component[ids[0]];
+      if (ok) {
+        p = leaf_patch(topo.faces(), ids, bvh.leaf_count(i));
+        p.component = component[ids[0]];
+      }
+    } else {
+      Patch& l = patches[bvh.left(i)];
+      Patch& r = patches[bvh.right(i)];
+      if (l.valid && r.valid && l.component == r.component) p = union_patch(l, r);
+      l = Patch();  // the children's boundaries are no longer needed
+      r = Patch();
     }
-  }
+    // A patch whose boundary is long for its size (a disk-like one of F triangles has about
+    // 3 sqrt(F) boundary edges, a ragged one, like the leaves of a crumpled cloth, nearly F)
+    // rarely becomes a disk higher up and costs most to follow: it is not followed further.
+    if (p.valid && double(p.boundary.size()) > 4 * std::sqrt(double(triangles(i))) + 12) p = Patch();
+    if (p.valid && p.chi == 1) cycles[i] = one_cycle(p.boundary);
+  };
+  auto subtree = [&](auto&& self, std::uint32_t i) -> void {
+    if (bvh.subtree_size(i) < 1024) {
+      for (std::uint32_t k = i + bvh.subtree_size(i); k-- > i;) node(k);
+      return;
+    }
+    tbb::parallel_invoke([&] { self(self, bvh.left(i)); }, [&] { self(self, bvh.right(i)); });
+    node(i);
+  };
+  if (n) subtree(subtree, 0);
   cycle_offset_.assign(n + 1, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     cycle_offset_[i + 1] = cycle_offset_[i] + static_cast<std::uint32_t>(cycles[i].size());
@@ -251,7 +328,7 @@ unsigned SelfCulling::normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c
     // The d component of the normal (b - a) x (c - a), a quadratic in t: its Bernstein
     // coefficients from the ends' products (the middle one doubled).
     const P2 p0{u0[i], u0[j]}, q0{v0[i], v0[j]}, p1{u1[i], u1[j]}, q1{v1[i], v1[j]};
-    const int s = product_sign(p0, q0, p1, q1, /*cross=*/true);
+    const int s = product_sign<true>(p0, q0, p1, q1);
     bits |= s > 0 ? 1u << (2 * d) : s < 0 ? 2u << (2 * d) : 0u;
   }
   return bits;
@@ -262,7 +339,10 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
   const std::size_t n = static_cast<std::size_t>(end - begin);
   if (n < 3) return false;
   const int i = static_cast<int>(axis + 1) % 3, j = static_cast<int>(axis + 2) % 3;
-  std::vector<P2> p0(n), p1(n);
+  // scratch kept by each thread from call to call
+  thread_local std::vector<P2> p0, p1;
+  p0.resize(n);
+  p1.resize(n);
   P2 c0{0, 0}, c1{0, 0};
   for (std::size_t k = 0; k < n; ++k) {
     p0[k] = {x0(begin[k], i), x0(begin[k], j)};
@@ -281,8 +361,8 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
     const std::size_t prev = k == 0 ? n - 1 : k - 1, next = k + 1 == n ? 0 : k + 1;
     const P2 a0 = minus(p0[prev], p0[k]), b0 = minus(p0[next], p0[k]);
     const P2 a1 = minus(p1[prev], p1[k]), b1 = minus(p1[next], p1[k]);
-    if (product_sign(a0, b0, a1, b1, /*cross=*/false) < 0) continue;
-    if (product_sign(a0, b0, a1, b1, /*cross=*/true) != 0) continue;
+    if (product_sign<false>(a0, b0, a1, b1) < 0) continue;
+    if (product_sign<true>(a0, b0, a1, b1) != 0) continue;
     return false;
   }
   // Other edges never meet: their boxes over the step are apart. A common translation moving
@@ -305,7 +385,8 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
     double lo[2], hi[2];
     std::uint32_t edge;
   };
-  std::vector<Box> boxes(n);
+  thread_local std::vector<Box> boxes;
+  boxes.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t next = k + 1 == n ? 0 : k + 1;
     Box& b = boxes[k];

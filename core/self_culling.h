@@ -18,8 +18,12 @@
 /// orientation and contour tests, each of which is bounded.
 ///
 /// Which BVH nodes' triangles form such disks, and their boundary cycles, depends only on
-/// connectivity and is found once (bottom-up: two disks that share one boundary arc form a
-/// disk). Every step then certifies top-down: the first disk node on each path from the root
+/// connectivity and is found once, bottom-up in parallel: per node, the directed edges of its
+/// boundary and its Euler characteristic, from its children's (shared edges cancel; shared
+/// vertices and edges lie on both boundaries). A node of one connected mesh component whose
+/// boundary is one simple cycle and whose characteristic is 1 is a disk. Patches whose boundary
+/// is long for their size (ragged ones) are not followed up the tree. Every step then
+/// certifies top-down: the first disk node on each path from the root
 /// whose triangles share an axis sign (condition 1, per triangle, combined up the tree) and
 /// whose contour passes (condition 2) covers its subtree. A BVTT self node or pair node whose
 /// nodes are both under one covered node holds only feature pairs of that patch: it is skipped,

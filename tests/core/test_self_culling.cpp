@@ -101,6 +101,50 @@ TEST(SelfCulling, AGridIsADiskAtEveryNodeAndASphereIsNotAtItsRoot) {
   EXPECT_EQ(SelfCulling(s.bvh, off).num_disks(), 0u);
 }
 
+TEST(SelfCulling, APunctureOrAHoleIsNotADisk) {
+  // A torus less one triangle has a single boundary cycle (that triangle's edges) but Euler
+  // characteristic -1; a grid less its middle quad has two boundary cycles.
+  const int nu = 12, nv = 8;
+  TriMesh torus;
+  torus.vertices = Positions(nu * nv);
+  auto id = [&](int i, int j) { return static_cast<std::uint32_t>(((i + nu) % nu) * nv + (j + nv) % nv); };
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double a = 2 * kPi * i / nu, b = 2 * kPi * j / nv;
+      const double r = 2 + std::cos(b);
+      torus.vertices.set_point(id(i, j), Vec3(r * std::cos(a), r * std::sin(a), std::sin(b)));
+      if (i == 0 && j == 0) {
+        torus.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});  // the other half is left out
+        continue;
+      }
+      torus.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      torus.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  Built t({torus}, 16);
+  SelfCulling ct(t.bvh, t.scene);
+  EXPECT_FALSE(ct.disk(0));
+  EXPECT_GT(ct.num_disks(), 0u);
+
+  TriMesh holed = make_grid_mesh(4);  // 4 x 4 quads, two triangles each
+  TriMesh kept = holed;
+  kept.faces.clear();
+  for (const Triangle& f : holed.faces) {
+    Vec3 c = Vec3::Zero();
+    for (std::uint32_t v : f) c += holed.vertices.point(v) / 3;
+    const Vec3 lo = holed.vertices.point(0);
+    const Vec3 hi = holed.vertices.point(holed.vertices.rows() - 1);
+    const Vec3 mid = (lo + hi) / 2, quad = (hi - lo) / 4;
+    // drop the two triangles of the quad just above and right of the middle
+    if (c.x() > mid.x() && c.x() < mid.x() + quad.x() && c.y() > mid.y() && c.y() < mid.y() + quad.y()) continue;
+    kept.faces.push_back(f);
+  }
+  ASSERT_EQ(kept.faces.size(), holed.faces.size() - 2);
+  Built h({kept}, 16);
+  EXPECT_FALSE(SelfCulling(h.bvh, h.scene).disk(0));
+  Built whole({holed}, 16);
+  EXPECT_TRUE(SelfCulling(whole.bvh, whole.scene).disk(0));
+}
+
 TEST(SelfCulling, NormalSignsHoldOverTheWholeStepOnly) {
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   // counter-clockwise in the xy plane, still: +z certain, nothing along x or y
