@@ -137,7 +137,9 @@ std::vector<std::uint32_t> one_cycle(const std::vector<DirectedEdge>& edges) {
   std::sort(next.begin(), next.end());
   for (std::size_t i = 1; i < next.size(); ++i)
     if (next[i].first == next[i - 1].first) return {};  // a vertex left twice
-  std::vector<std::uint32_t> cycle{edges[0].first};
+  std::vector<std::uint32_t> cycle;
+  cycle.reserve(edges.size());
+  cycle.push_back(edges[0].first);
   for (std::uint32_t v = edges[0].first;;) {
     const auto it = std::lower_bound(next.begin(), next.end(), DirectedEdge{v, 0});
     if (it == next.end() || it->first != v) return {};
@@ -181,26 +183,39 @@ struct Patch {
 
 Patch leaf_patch(const std::vector<Triangle>& faces, const std::uint32_t* ids, std::uint32_t n) {
   Patch p;
+  // Each edge once per face as (min, max, direction): an edge of two of the leaf's faces
+  // appears twice side by side once sorted (the faces are regular: opposite directions).
   constexpr unsigned kMax = 3 * BvhTopology::kMaxLeaf;
-  std::uint64_t keys[kMax];
+  std::uint64_t edges[kMax];
   std::uint32_t vertices[kMax];
   for (std::uint32_t i = 0; i < n; ++i) {
     const Triangle& t = faces[ids[i]];
     for (unsigned c = 0; c < 3; ++c) {
-      keys[3 * i + c] = key(t[c], t[(c + 1) % 3]);
-      vertices[3 * i + c] = t[c];
+      const std::uint32_t a = t[c], b = t[(c + 1) % 3];
+      edges[3 * i + c] = (a < b ? key(a, b) : key(b, a)) << 1 | (a < b ? 0u : 1u);
+      vertices[3 * i + c] = a;
     }
   }
   const std::size_t m = 3 * n;
-  std::sort(keys, keys + m);
-  for (std::size_t i = 0; i < m; ++i) {
-    const std::uint32_t a = static_cast<std::uint32_t>(keys[i] >> 32), b = static_cast<std::uint32_t>(keys[i]);
-    if (!std::binary_search(keys, keys + m, key(b, a))) p.boundary.emplace_back(a, b);
+  std::sort(edges, edges + m);
+  p.boundary.reserve(m);
+  std::size_t unique_edges = 0;
+  for (std::size_t i = 0; i < m;) {
+    ++unique_edges;
+    if (i + 1 < m && edges[i + 1] >> 1 == edges[i] >> 1) {
+      i += 2;  // shared by two of the leaf's faces
+      continue;
+    }
+    const std::uint32_t lo = static_cast<std::uint32_t>(edges[i] >> 33), hi = static_cast<std::uint32_t>(edges[i] >> 1);
+    if (edges[i] & 1u)
+      p.boundary.emplace_back(hi, lo);
+    else
+      p.boundary.emplace_back(lo, hi);
+    ++i;
   }
   std::sort(vertices, vertices + m);
   const std::size_t nv = static_cast<std::size_t>(std::unique(vertices, vertices + m) - vertices);
-  const std::size_t ne = (m + p.boundary.size()) / 2;
-  p.chi = static_cast<std::int64_t>(nv + n) - static_cast<std::int64_t>(ne);
+  p.chi = static_cast<std::int64_t>(nv + n) - static_cast<std::int64_t>(unique_edges);
   p.valid = true;
   return p;
 }
@@ -221,6 +236,7 @@ Patch union_patch(const Patch& l, const Patch& r) {
   rv.clear();
   lv.clear();
   cancelled.clear();
+  u.boundary.reserve(l.boundary.size() + r.boundary.size());
   for (const auto& [a, b] : r.boundary) {
     re.push_back(key(a, b));
     rv.push_back(a);
@@ -296,7 +312,7 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
     // A patch whose boundary is long for its size (a disk-like one of F triangles has about
     // 3 sqrt(F) boundary edges, a ragged one, like the leaves of a crumpled cloth, nearly F)
     // rarely becomes a disk higher up and costs most to follow: it is not followed further.
-    if (p.valid && double(p.boundary.size()) > 4 * std::sqrt(double(triangles(i))) + 12) p = Patch();
+    if (p.valid && double(p.boundary.size()) > 3.5 * std::sqrt(double(triangles(i))) + 8) p = Patch();
     if (p.valid && p.chi == 1) cycles[i] = one_cycle(p.boundary);
   };
   auto subtree = [&](auto&& self, std::uint32_t i) -> void {
@@ -464,21 +480,39 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   for (std::uint32_t i = n; i-- > 0;)
     if (!bvh.leaf(i)) signs_[i] = disk(i) ? signs_[bvh.left(i)] & signs_[bvh.right(i)] : 0;
   // Top-down: the first node on each path whose faces share a sign along an axis and whose
-  // contour passes along that axis covers its subtree.
-  certified_ = 0;
-  for (std::uint32_t i = 0; i < n;) {
-    bool ok = false;
-    for (unsigned d = 0; d < 3 && !ok; ++d)
-      ok = (signs_[i] >> (2 * d) & 3u) && contour_simple(cycle_begin(i), cycle_end(i), d, x0, x1);
-    if (!ok) {
-      top_[i++] = kNone;
-      continue;
+  // contour passes along that axis covers its subtree. The subtrees of the tree's top in
+  // parallel: each writes only its own nodes, and the counts add up the same either way.
+  auto certifies = [&](std::uint32_t i) {
+    for (unsigned d = 0; d < 3; ++d)
+      if ((signs_[i] >> (2 * d) & 3u) && contour_simple(cycle_begin(i), cycle_end(i), d, x0, x1)) return true;
+    return false;
+  };
+  auto serial = [&](std::uint32_t begin, std::uint32_t end) {
+    std::uint64_t count = 0;
+    for (std::uint32_t i = begin; i < end;) {
+      if (!certifies(i)) {
+        top_[i++] = kNone;
+        continue;
+      }
+      const std::uint32_t below = i + bvh.subtree_size(i);
+      std::fill(top_.begin() + i, top_.begin() + below, i);
+      ++count;
+      i = below;
     }
-    const std::uint32_t end = i + bvh.subtree_size(i);
-    std::fill(top_.begin() + i, top_.begin() + end, i);
-    ++certified_;
-    i = end;
-  }
+    return count;
+  };
+  auto subtree = [&](auto&& self, std::uint32_t i) -> std::uint64_t {
+    if (bvh.subtree_size(i) <= 1024) return serial(i, i + bvh.subtree_size(i));
+    if (certifies(i)) {
+      std::fill(top_.begin() + i, top_.begin() + i + bvh.subtree_size(i), i);
+      return 1;
+    }
+    top_[i] = kNone;
+    std::uint64_t l = 0, r = 0;
+    tbb::parallel_invoke([&] { l = self(self, bvh.left(i)); }, [&] { r = self(self, bvh.right(i)); });
+    return l + r;
+  };
+  certified_ = n ? subtree(subtree, 0) : 0;
   active_ = true;
 }
 
