@@ -331,15 +331,22 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
   }
   cycle_.reserve(cycle_offset_[n]);
   for (auto& c : cycles) cycle_.insert(cycle_.end(), c.begin(), c.end());
+  // A disk leaf under a node that is not a disk is tested alone or not at all; alone, its
+  // test costs about what it could save (its own pairs): it is not tested.
+  lone_.assign(n, 0);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (!bvh.leaf(i) && !disk(i))
+      for (std::uint32_t c : {bvh.left(i), bvh.right(i)}) lone_[c] = bvh.leaf(c) && disk(c);
   signs_.assign(n, 0);
   top_.assign(n, kNone);
 }
 
 unsigned SelfCulling::normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
-                                   const Vec3& c1) {
+                                   const Vec3& c1, unsigned wanted) {
   const Vec3 u0 = b0 - a0, v0 = c0 - a0, u1 = b1 - a1, v1 = c1 - a1;
   unsigned bits = 0;
   for (int d = 0; d < 3; ++d) {
+    if (!(wanted >> (2 * d) & 3u)) continue;
     const int i = (d + 1) % 3, j = (d + 2) % 3;
     // The d component of the normal (b - a) x (c - a), a quadratic in t: its Bernstein
     // coefficients from the ends' products (the middle one doubled).
@@ -347,7 +354,7 @@ unsigned SelfCulling::normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c
     const int s = product_sign<true>(p0, q0, p1, q1);
     bits |= s > 0 ? 1u << (2 * d) : s < 0 ? 2u << (2 * d) : 0u;
   }
-  return bits;
+  return bits & wanted;
 }
 
 bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t* end, unsigned axis,
@@ -466,13 +473,13 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const std::uint32_t node = static_cast<std::uint32_t>(i);
-      if (!bvh.leaf(node) || !disk(node)) continue;
+      if (!bvh.leaf(node) || !disk(node) || lone_[node]) continue;
       unsigned s = 0x3F;
       const std::uint32_t* ids = bvh.leaf_triangles(node);
       for (std::uint32_t k = 0; k < bvh.leaf_count(node) && s; ++k) {
         const Triangle& t = faces[ids[k]];
-        s &= normal_signs(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), x1.point(t[0]), x1.point(t[1]),
-                          x1.point(t[2]));
+        s = normal_signs(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), x1.point(t[0]), x1.point(t[1]),
+                         x1.point(t[2]), s);
       }
       signs_[node] = static_cast<std::uint8_t>(s);
     }

@@ -77,8 +77,9 @@ class SelfCulling {
   /// The signs a triangle keeps along each axis over a step, as bits (bit 2d: the d component
   /// of its normal positive at every time; bit 2d + 1: negative), each certain under its
   /// rounding bound. Exposed for the tests.
+  /// Only the axes with a bit in `wanted` are looked at (the others' bits are 0).
   static unsigned normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
-                               const Vec3& c1);
+                               const Vec3& c1, unsigned wanted = 0x3F);
   /// Whether the closed polyline `cycle` (vertex ids), projected along axis d, stays simple
   /// over the step x0 -> x1. Exposed for the tests.
   static bool contour_simple(const std::uint32_t* begin, const std::uint32_t* end, unsigned axis, const Positions& x0,
@@ -90,6 +91,7 @@ class SelfCulling {
   std::size_t disks_ = 0;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
+  std::vector<std::uint8_t> lone_;   ///< per node: a disk leaf under a node that is not one (not tested)
   std::uint64_t certified_ = 0;
   bool active_ = false;
 };
