@@ -58,6 +58,7 @@ struct ToiOptions {
   BvhBuild bvh = BvhBuild::Sah;
   unsigned leaf_size = 0;
   Representatives rule = Representatives::Default;
+  bool self_culling = true;
   bool static_orphans = false;
 };
 
@@ -96,6 +97,7 @@ int toi_check(const ToiOptions& a) {
   opt.bvh = a.bvh;
   opt.leaf_size = a.leaf_size;
   opt.representatives = a.rule;
+  opt.self_culling = a.self_culling;
   const int threads = a.threads;
   tbb::task_arena arena(static_cast<int>(threads));
   opt.arena = &arena;
@@ -197,7 +199,7 @@ const cli::Command reg(
       cli::add_method_option(app, o->method);
       cli::add_min_distance_option(app, o->min_distance, "; at most 1% of the scene's bounding-box diagonal");
       cli::add_threads_option(app, o->threads);
-      cli::add_bvh_options(app, o->bvh, o->leaf_size, o->rule);
+      cli::add_bvh_options(app, o->bvh, o->leaf_size, o->rule, o->self_culling);
       app.add_flag("--static-orphans", o->static_orphans,
                    "also count the orphan pairs a static (first-triangle) representative rule would leave, for "
                    "comparison with the canonical rule (takes a while on large scenes)");

@@ -63,7 +63,7 @@ CLI::Validator number_in(double lo, double hi, bool lo_open) {
       "");
 }
 
-void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule) {
+void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule, bool& self_culling) {
   app.add_option_function<std::string>(
          "--bvh", [&bvh](const std::string& v) { bvh = parse_bvh_build(v.c_str()); },
          "how the scene BVH is built: sah (binned surface area heuristic, default) or median (the paper's "
@@ -81,6 +81,10 @@ void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Represen
          "(the paper's first non-adjacent triangle pair, with its orphan set; the default with median)")
       ->type_name("NAME")
       ->check(CLI::IsMember({"default", "leaf", "canonical"}));
+  app.add_flag_function(
+      "--no-self-culling", [&self_culling](std::int64_t) { self_culling = false; },
+      "test every patch's own pairs, skipping none certified free of self-collision (the same contacts; "
+      "with the canonical representatives, or a minimum distance, nothing is culled anyway)");
 }
 
 CLI::Option* add_method_option(CLI::App& app, Method& method) {

@@ -32,7 +32,8 @@ CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 CLI::Option* add_method_option(CLI::App& app, Method& method);
 /// `--bvh median|sah`, `--leaf-size K` (1 to 16) and `--representatives default|leaf|canonical`
 /// into `bvh`, `leaf_size` and `rule`.
-void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule);
+/// --bvh, --leaf-size, --representatives and --no-self-culling.
+void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule, bool& self_culling);
 /// `--threads N` (1 to kMaxThreads) into `threads`, which keeps its default (the machine's
 /// hardware concurrency) when absent.
 CLI::Option* add_threads_option(CLI::App& app, int& threads);

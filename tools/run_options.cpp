@@ -114,7 +114,7 @@ void add_engine_options(CLI::App& app, RunSettings& s) {
                  "(default 0.45)")
       ->type_name("R")
       ->check(number_in(0, 100, true));
-  add_bvh_options(app, s.scene.bvh, s.scene.leaf_size, s.scene.representatives);
+  add_bvh_options(app, s.scene.bvh, s.scene.leaf_size, s.scene.representatives, s.scene.self_culling);
   add_threads_option(app, s.threads);
 }
 

@@ -221,7 +221,8 @@ TEST(CliRun, TreesAndRepresentativeRulesPrintTheSameContactTotals) {
   std::string first;
   for (const std::vector<std::string>& extra :
        {std::vector<std::string>{}, {"--representatives", "canonical"}, {"--bvh", "median"},
-        {"--bvh", "median", "--representatives", "leaf", "--leaf-size", "3"}, {"--leaf-size", "16"}}) {
+        {"--bvh", "median", "--representatives", "leaf", "--leaf-size", "3"}, {"--leaf-size", "16"},
+        {"--no-self-culling"}}) {
     std::vector<std::string> args{"run", "--scene", "spheres", "--size", "1", "--frames", "9", "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     const auto r = run_cli(args);
