@@ -331,12 +331,15 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
   }
   cycle_.reserve(cycle_offset_[n]);
   for (auto& c : cycles) cycle_.insert(cycle_.end(), c.begin(), c.end());
-  // A disk leaf under a node that is not a disk is tested alone or not at all; alone, its
-  // test costs about what it could save (its own pairs): it is not tested.
-  lone_.assign(n, 0);
+  // The leaves whose signs a step needs: those under an inner disk node (a disk may have
+  // children that are not, like ragged leaves). A disk leaf under no inner disk would be tested
+  // alone, which costs about what it could save (its own pairs): it is not; nor is a leaf
+  // that no disk contains. A disk leaf that is the whole tree is.
+  signed_.assign(n, 0);
   for (std::uint32_t i = 0; i < n; ++i)
-    if (!bvh.leaf(i) && !disk(i))
-      for (std::uint32_t c : {bvh.left(i), bvh.right(i)}) lone_[c] = bvh.leaf(c) && disk(c);
+    if (!bvh.leaf(i))
+      for (std::uint32_t c : {bvh.left(i), bvh.right(i)}) signed_[c] = signed_[i] || disk(i);
+  if (n == 1) signed_[0] = disk(0);
   signs_.assign(n, 0);
   top_.assign(n, kNone);
 }
@@ -469,11 +472,12 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1) {
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
-  // The signs each disk leaf's faces share, in parallel over the nodes (a leaf writes its own).
+  // The signs each needed leaf's faces share, in parallel over the nodes (a leaf writes its
+  // own); then every inner node's, the signs both children share.
   dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const std::uint32_t node = static_cast<std::uint32_t>(i);
-      if (!bvh.leaf(node) || !disk(node) || lone_[node]) continue;
+      if (!bvh.leaf(node) || !signed_[node]) continue;
       unsigned s = 0x3F;
       const std::uint32_t* ids = bvh.leaf_triangles(node);
       for (std::uint32_t k = 0; k < bvh.leaf_count(node) && s; ++k) {
@@ -485,11 +489,12 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     }
   });
   for (std::uint32_t i = n; i-- > 0;)
-    if (!bvh.leaf(i)) signs_[i] = disk(i) ? signs_[bvh.left(i)] & signs_[bvh.right(i)] : 0;
+    if (!bvh.leaf(i)) signs_[i] = signs_[bvh.left(i)] & signs_[bvh.right(i)];
   // Top-down: the first node on each path whose faces share a sign along an axis and whose
   // contour passes along that axis covers its subtree. The subtrees of the tree's top in
   // parallel: each writes only its own nodes, and the counts add up the same either way.
   auto certifies = [&](std::uint32_t i) {
+    if (!disk(i)) return false;
     for (unsigned d = 0; d < 3; ++d)
       if ((signs_[i] >> (2 * d) & 3u) && contour_simple(cycle_begin(i), cycle_end(i), d, x0, x1)) return true;
     return false;

@@ -91,7 +91,7 @@ class SelfCulling {
   std::size_t disks_ = 0;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
-  std::vector<std::uint8_t> lone_;   ///< per node: a disk leaf under a node that is not one (not tested)
+  std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)
   std::uint64_t certified_ = 0;
   bool active_ = false;
 };
