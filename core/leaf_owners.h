@@ -189,7 +189,7 @@ class OwnedPairs {
       unsigned meet = 0;
       for (std::uint32_t k = 0; k < nf; ++k) {
         const Triangle& t = owners_.face_corners(face_slot + k);
-        const bool corner = (t[0] == v) | (t[1] == v) | (t[2] == v);
+        const bool corner = int(t[0] == v) | int(t[1] == v) | int(t[2] == v);
         out.stats.feature_box_tests += !corner;
         meet |= unsigned(!corner & vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
       }
@@ -209,7 +209,7 @@ class OwnedPairs {
 
   /// Whether two edges share an end (no branch: all four comparisons).
   static bool shares_end(const Edge& x, const Edge& y) {
-    return (x[0] == y[0]) | (x[0] == y[1]) | (x[1] == y[0]) | (x[1] == y[1]);
+    return int(x[0] == y[0]) | int(x[0] == y[1]) | int(x[1] == y[0]) | int(x[1] == y[1]);
   }
 
   /// For the vertex (edges: `edges`) slots [begin, end) of one leaf against quarters `qq`: the

@@ -24,10 +24,11 @@ constexpr double kTiny = 0x1p-900;
 /// one with certainty: +1, -1, or 0 (not certain). `v`: computed coefficients; `e`: the sums of
 /// the magnitudes of their products.
 [[gnu::always_inline]] inline int bernstein_sign(const std::array<double, 3>& v, const std::array<double, 3>& e) {
-  const bool pos = (v[0] > kBound * e[0]) & (v[1] > kBound * e[1]) & (v[2] > kBound * e[2]);
-  const bool neg = (v[0] < -kBound * e[0]) & (v[1] < -kBound * e[1]) & (v[2] < -kBound * e[2]);
-  const bool normal = (e[0] > kTiny) & (e[1] > kTiny) & (e[2] > kTiny);
-  return normal ? int(pos) - int(neg) : 0;
+  // (every comparison made, no branch: the signs mispredict)
+  const int pos = int(v[0] > kBound * e[0]) & int(v[1] > kBound * e[1]) & int(v[2] > kBound * e[2]);
+  const int neg = int(v[0] < -kBound * e[0]) & int(v[1] < -kBound * e[1]) & int(v[2] < -kBound * e[2]);
+  const int normal = int(e[0] > kTiny) & int(e[1] > kTiny) & int(e[2] > kTiny);
+  return normal ? pos - neg : 0;
 }
 
 using P2 = std::array<double, 2>;
