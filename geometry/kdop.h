@@ -32,64 +32,28 @@ inline float float_down(float f) {
 }
 inline float float_up(float f) { return -float_down(-f); }
 
-/// The largest float <= x / the smallest float >= x, for any double x but NaN (beyond the float
-/// range: -inf / FLT_MAX, and -FLT_MAX / +inf). Branch-free: one conversion, one comparison and
-/// a one-step correction of the bit pattern.
-inline float float_below(double x) {
-  float f = static_cast<float>(x);
-  std::int32_t u;
-  std::memcpy(&u, &f, 4);
-  // One step toward -inf: a positive pattern decreases, a negative one (-0 included) grows in
-  // magnitude, and +0 becomes the negative denormal.
-  const std::int32_t step = u > 0 ? u - 1 : (u == 0 ? std::int32_t(0x80000001u) : u + 1);
-  const std::int32_t d = static_cast<double>(f) > x ? step : u;
-  std::memcpy(&f, &d, 4);
-  return f;
+/// A float strictly below / above `f` when `f` is the double x rounded to the nearest float,
+/// hence at most x / at least x: f moved out by |f| 2^-23 (at least one unit in the last place)
+/// plus the smallest normal float (for zero and subnormal f, and under flush-to-zero, which a
+/// host built with -ffast-math turns on). At most two units in the last place beyond the nearest float outside x,
+/// for a handful of instructions; +inf becomes FLT_MAX below, -inf -FLT_MAX above. NaN not expected.
+inline float float_step_down(float f) {
+  f = f < std::numeric_limits<float>::max() ? f : std::numeric_limits<float>::max();
+  return f - (std::fabs(f) * 0x1p-23f + std::numeric_limits<float>::min());
 }
-inline float float_above(double x) { return -float_below(-x); }
-
+inline float float_step_up(float f) { return -float_step_down(-f); }
 #if defined(__SSE2__)
-namespace detail {
-/// float_below of the four doubles (a[0], a[1], b[0], b[1]), lane for lane the same steps as
-/// the scalar function (the conversion rounds as static_cast<float> does, under the same MXCSR).
-inline __m128 floats_below_sse2(__m128d a, __m128d b) {
-  const __m128 fa = _mm_cvtpd_ps(a), fb = _mm_cvtpd_ps(b);
-  const __m128i u = _mm_castps_si128(_mm_movelh_ps(fa, fb));
-  // Lanes where the rounded value lies above x (a NaN compares false and stays as it is).
-  const __m128d above_a = _mm_cmpgt_pd(_mm_cvtps_pd(fa), a), above_b = _mm_cmpgt_pd(_mm_cvtps_pd(fb), b);
-  const __m128i above =
-      _mm_castps_si128(_mm_shuffle_ps(_mm_castpd_ps(above_a), _mm_castpd_ps(above_b), _MM_SHUFFLE(2, 0, 2, 0)));
-  auto select = [](__m128i m, __m128i x, __m128i y) {
-    return _mm_or_si128(_mm_and_si128(m, x), _mm_andnot_si128(m, y));
-  };
-  const __m128i zero = _mm_setzero_si128(), ones = _mm_set1_epi32(-1);
-  const __m128i toward_zero = _mm_add_epi32(u, ones), away = _mm_sub_epi32(u, ones);
-  const __m128i step = select(_mm_cmpgt_epi32(u, zero), toward_zero,
-                              select(_mm_cmpeq_epi32(u, zero), _mm_set1_epi32(std::int32_t(0x80000001u)), away));
-  return _mm_castsi128_ps(select(above, step, u));
+/// float_step_down / float_step_up of four floats, lane for lane the scalar operations.
+inline __m128 floats_down(__m128 f) {
+  f = _mm_min_ps(f, _mm_set1_ps(std::numeric_limits<float>::max()));
+  const __m128 abs = _mm_andnot_ps(_mm_set1_ps(-0.0f), f);
+  return _mm_sub_ps(f, _mm_add_ps(_mm_mul_ps(abs, _mm_set1_ps(0x1p-23f)), _mm_set1_ps(std::numeric_limits<float>::min())));
 }
-}  // namespace detail
-#endif
-
-/// float_below / float_above of four doubles at once, bit for bit the same as the scalar
-/// functions (SSE2 where available).
-inline void floats_below(const double (&x)[4], float out[4]) {
-#if defined(__SSE2__)
-  _mm_storeu_ps(out, detail::floats_below_sse2(_mm_loadu_pd(x), _mm_loadu_pd(x + 2)));
-#else
-  for (int i = 0; i < 4; ++i) out[i] = float_below(x[i]);
-#endif
+inline __m128 floats_up(__m128 f) {
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  return _mm_xor_ps(floats_down(_mm_xor_ps(f, sign)), sign);
 }
-inline void floats_above(const double (&x)[4], float out[4]) {
-#if defined(__SSE2__)
-  const __m128d sign = _mm_set1_pd(-0.0);
-  const __m128 below =
-      detail::floats_below_sse2(_mm_xor_pd(_mm_loadu_pd(x), sign), _mm_xor_pd(_mm_loadu_pd(x + 2), sign));
-  _mm_storeu_ps(out, _mm_xor_ps(below, _mm_set1_ps(-0.0f)));
-#else
-  for (int i = 0; i < 4; ++i) out[i] = float_above(x[i]);
 #endif
-}
 
 template <int Slabs>
 struct Dop {

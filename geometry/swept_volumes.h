@@ -184,24 +184,54 @@ class SweptVolumes {
     constexpr int S = BV::kSlabs;
     const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
     const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
-    // The points a + (k/4)(b - a), k = 0..4, projected on the slabs' axes. The split points
-    // and the projections carry rounding errors relative to the coordinates (at most a few
-    // units of 2^-53 of the largest one), so each quarter's bounds are moved out by 2^-48 of
-    // the largest coordinate, far above those errors, and then rounded outward to float.
-    const Vec3 step = b - a;
-    double pr[5][S];
-    for (int k = 0; k < 5; ++k) BV::project(k == 4 ? b : Vec3(a + (0.25 * k) * step), pr[k]);
+    // The segment's projections on the slabs' axes at t = k/4, k = 0..4: those of its ends,
+    // and in between pa + (k/4)(pb - pa). Each is off the exact projection of the exact point
+    // by at most 13 units of 2^-53 of the largest coordinate M (the ends' projections, their
+    // difference, the product and the sum); each quarter's bounds are moved out by 2^-48 M,
+    // far above that, and then rounded outward to float.
+    alignas(16) double pa[S + 1], pb[S + 1];
+    BV::project(a, pa);
+    BV::project(b, pb);
+    pa[S] = pb[S] = 0;  // the second lane of the last pair when S is odd
     const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
     Quarters& q = vertex_quarters_[slot];
-    for (int s = 0; s < S; ++s) {
-      double lo[4], hi[4];
-      for (int k = 0; k < 4; ++k) {
-        lo[k] = std::min(pr[k][s], pr[k + 1][s]) - margin;
-        hi[k] = std::max(pr[k][s], pr[k + 1][s]) + margin;
+#if defined(__SSE2__)
+    // Two slabs at a time: lane i of a register holds slab s + i.
+    const __m128d m = _mm_set1_pd(margin);
+    for (int s = 0; s < S; s += 2) {
+      const __m128d p0 = _mm_load_pd(pa + s), p4 = _mm_load_pd(pb + s), d = _mm_sub_pd(p4, p0);
+      const __m128d p1 = _mm_add_pd(p0, _mm_mul_pd(_mm_set1_pd(0.25), d));
+      const __m128d p2 = _mm_add_pd(p0, _mm_mul_pd(_mm_set1_pd(0.5), d));
+      const __m128d p3 = _mm_add_pd(p0, _mm_mul_pd(_mm_set1_pd(0.75), d));
+      // Quarter k's bounds of both slabs, to float (round to nearest), then slab by slab.
+      auto quarters = [](__m128d q0, __m128d q1, __m128d q2, __m128d q3, __m128& first, __m128& second) {
+        const __m128 x = _mm_movelh_ps(_mm_cvtpd_ps(q0), _mm_cvtpd_ps(q1));  // s q0, s+1 q0, s q1, s+1 q1
+        const __m128 y = _mm_movelh_ps(_mm_cvtpd_ps(q2), _mm_cvtpd_ps(q3));  // s q2, s+1 q2, s q3, s+1 q3
+        first = _mm_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0));
+        second = _mm_shuffle_ps(x, y, _MM_SHUFFLE(3, 1, 3, 1));
+      };
+      __m128 lo0, lo1, hi0, hi1;
+      quarters(_mm_sub_pd(_mm_min_pd(p0, p1), m), _mm_sub_pd(_mm_min_pd(p1, p2), m),
+               _mm_sub_pd(_mm_min_pd(p2, p3), m), _mm_sub_pd(_mm_min_pd(p3, p4), m), lo0, lo1);
+      quarters(_mm_add_pd(_mm_max_pd(p0, p1), m), _mm_add_pd(_mm_max_pd(p1, p2), m),
+               _mm_add_pd(_mm_max_pd(p2, p3), m), _mm_add_pd(_mm_max_pd(p3, p4), m), hi0, hi1);
+      _mm_store_ps(q.lo(s), floats_down(lo0));
+      _mm_store_ps(q.hi(s), floats_up(hi0));
+      if (s + 1 < S) {
+        _mm_store_ps(q.lo(s + 1), floats_down(lo1));
+        _mm_store_ps(q.hi(s + 1), floats_up(hi1));
       }
-      floats_below(lo, q.lo(s));
-      floats_above(hi, q.hi(s));
     }
+#else
+    for (int s = 0; s < S; ++s) {
+      const double d = pb[s] - pa[s];
+      const double p[5] = {pa[s], pa[s] + 0.25 * d, pa[s] + 0.5 * d, pa[s] + 0.75 * d, pb[s]};
+      for (int k = 0; k < 4; ++k) {
+        q.lo(s)[k] = float_step_down(static_cast<float>(std::min(p[k], p[k + 1]) - margin));
+        q.hi(s)[k] = float_step_up(static_cast<float>(std::max(p[k], p[k + 1]) + margin));
+      }
+    }
+#endif
     vertex_[slot] = q.whole();
   }
 
