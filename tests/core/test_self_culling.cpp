@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <set>
 
 #include "fixtures/scenes.h"
@@ -187,6 +188,69 @@ TEST(SelfCulling, NormalSignsHoldOverTheWholeStepOnly) {
   EXPECT_EQ(SelfCulling::normal_signs(a, b, c, a, b1, c2) & (3u << 4), 0u);
   // the same turn about the middle of the far edge keeps it a proper triangle: +z holds
   EXPECT_TRUE(SelfCulling::normal_signs(a, b, c, Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0.2)) & (1u << 4));
+}
+
+TEST(SelfCulling, NormalSignsEqualTheAxisByAxisFormulaAndHoldAtSampledTimes) {
+  // The reference: each axis on its own, the three Bernstein coefficients of the d component
+  // of (b - a) x (c - a) over the step and the sums of their products' magnitudes, each sign
+  // certain beyond 2^-49 of that sum (and the sums above 2^-900).
+  auto reference = [](const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
+                      const Vec3& c1) {
+    const Vec3 u0 = b0 - a0, v0 = c0 - a0, u1 = b1 - a1, v1 = c1 - a1;
+    unsigned bits = 0;
+    for (int d = 0; d < 3; ++d) {
+      const int i = (d + 1) % 3, j = (d + 2) % 3;
+      auto term = [&](const Vec3& x, const Vec3& y, double& mag) {
+        const double p = x[i] * y[j], q = x[j] * y[i];
+        mag += std::abs(p) + std::abs(q);
+        return p - q;
+      };
+      double e[3] = {0, 0, 0};
+      const double v[3] = {term(u0, v0, e[0]), term(u0, v1, e[1]) + term(u1, v0, e[1]), term(u1, v1, e[2])};
+      bool pos = true, neg = true, normal = true;
+      for (int k = 0; k < 3; ++k) {
+        pos = pos && v[k] > 0x1p-49 * e[k];
+        neg = neg && v[k] < -0x1p-49 * e[k];
+        normal = normal && e[k] > 0x1p-900;
+      }
+      if (normal && pos) bits |= 1u << (2 * d);
+      if (normal && neg) bits |= 2u << (2 * d);
+    }
+    return bits;
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coord(-1, 1), move(-0.6, 0.6);
+  int signed_axes = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Vec3 p0[3], p1[3];
+    for (int k = 0; k < 3; ++k) {
+      p0[k] = Vec3(coord(rng), coord(rng), coord(rng));
+      // mostly small motions, some large, some corners still or degenerate
+      const double scale = n % 7 == 0 ? 0.0 : n % 5 == 0 ? 3.0 : 0.3;
+      p1[k] = p0[k] + scale * Vec3(move(rng), move(rng), move(rng));
+    }
+    if (n % 11 == 0) p0[2] = p0[0] + 0.5 * (p0[1] - p0[0]);  // collinear at the start
+    const unsigned bits = SelfCulling::normal_signs(p0[0], p0[1], p0[2], p1[0], p1[1], p1[2]);
+    ASSERT_EQ(bits, reference(p0[0], p0[1], p0[2], p1[0], p1[1], p1[2])) << n;
+    for (unsigned wanted : {0x03u, 0x0Cu, 0x30u, 0x15u})
+      ASSERT_EQ(SelfCulling::normal_signs(p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], wanted), bits & wanted) << n;
+    // A certain sign holds at every sampled time (the normal evaluated in long double).
+    for (int d = 0; d < 3; ++d) {
+      if (!(bits >> (2 * d) & 3u)) continue;
+      ++signed_axes;
+      const long double want = (bits >> (2 * d) & 1u) ? 1 : -1;
+      const int i = (d + 1) % 3, j = (d + 2) % 3;
+      for (int s = 0; s <= 64; ++s) {
+        const long double t = s / 64.0L;
+        long double q[3][3];
+        for (int k = 0; k < 3; ++k)
+          for (int a = 0; a < 3; ++a) q[k][a] = (1 - t) * p0[k][a] + t * p1[k][a];
+        const long double n_d = (q[1][i] - q[0][i]) * (q[2][j] - q[0][j]) - (q[1][j] - q[0][j]) * (q[2][i] - q[0][i]);
+        ASSERT_GT(want * n_d, 0) << n << " axis " << d << " t " << static_cast<double>(t);
+      }
+    }
+  }
+  EXPECT_GT(signed_axes, 10000);  // the check above is not vacuous
 }
 
 TEST(SelfCulling, ContourTestsFollowTheMotion) {
