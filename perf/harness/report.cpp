@@ -157,9 +157,12 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
 
   o << "\n## Stages\n\nms per frame of each stage (StepStats: update = volume update, refit, search = front tracking or\n"
        "traversal with its leaf pairs and elementary tests, orphans = the pairs no front node holds (each leaf's own\n"
-       "pairs with the leaf rule, the orphan set with the canonical one; concurrent with the search),\n"
-       "contacts = the join into the canonical order; step = the whole step, wall clock), its serial fraction\n"
-       "and the speedup Amdahl's law gives it on 16 threads.\n\n| scene | method | stage |";
+       "pairs with the leaf rule, the orphan set with the canonical one; beside the search in the step's flow\n"
+       "graph, sharing its threads), contacts = the join into the canonical order; search + self = the part of\n"
+       "the step those two take together (the engine's time less update, refit and contacts); step = the whole\n"
+       "step, wall clock), its serial fraction and the speedup Amdahl's law gives it on 16 threads. The search and\n"
+       "the self stage alone get no fraction: each one's wall time spans the time the other holds the threads.\n\n"
+       "| scene | method | stage |";
   std::vector<int> threads = scenes.empty() ? std::vector<int>{} : scenes.front().threads;
   for (int t : threads) o << " " << t << (t == 1 ? " thread" : " threads") << " |";
   o << " serial fraction | model, 16 threads |\n|";
@@ -174,7 +177,10 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
           if (v.scene == s.scene && v.config == "default" && v.method == s.method && v.threads == t) ms = v.median_ms[st];
         o << " " << num(ms, 3) << " |";
       }
-      o << " " << num(s.serial[st], 3) << " | " << num(s.amdahl16[st], 1) << "x |\n";
+      if (stage_scales_alone(st))
+        o << " " << num(s.serial[st], 3) << " | " << num(s.amdahl16[st], 1) << "x |\n";
+      else
+        o << " - | - |\n";
     }
 
   o << "\n## How the serial fraction is estimated\n\n"

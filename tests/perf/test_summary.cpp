@@ -90,6 +90,24 @@ TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
   EXPECT_NEAR(s.phc_ms_1, 20.0, 1e-9);
 }
 
+TEST(HarnessSummary, SearchAndSelfIsTheirSharedPartOfTheStep) {
+  // The search and the self stage overlap (each 9 ms of wall time on a 10 ms step whose update,
+  // refit and join take 1, 0.5 and 0.25 ms): the stage they form together is the rest of the
+  // engine's time, 8.25 ms, not their sum; per frame interval (2 intervals) half of it.
+  RunRecord r;
+  r.intervals = 2, r.wall_ms = 10.5;
+  r.sum.t_update = 1e-3, r.sum.t_refit = 0.5e-3, r.sum.t_contacts = 0.25e-3, r.sum.t_total = 10e-3;
+  r.sum.t_front = 9e-3, r.sum.t_orphans = 9e-3;
+  EXPECT_NEAR(stage_ms(r, kSearchAndSelf), 8.25 / 2, 1e-12);
+  EXPECT_NEAR(stage_ms(r, kSearch), 4.5, 1e-12);
+  EXPECT_NEAR(stage_ms(r, kStep), 5.25, 1e-12);
+  EXPECT_STREQ(stage_name(kSearchAndSelf), "search + self");
+  EXPECT_FALSE(stage_scales_alone(kSearch));
+  EXPECT_FALSE(stage_scales_alone(kOrphans));
+  EXPECT_TRUE(stage_scales_alone(kSearchAndSelf));
+  EXPECT_TRUE(stage_scales_alone(kStep));
+}
+
 TEST(HarnessReport, MachineNameIsAFolderName) {
   const std::string name = default_machine_name();
   EXPECT_FALSE(name.empty());
