@@ -8,86 +8,89 @@
 
 namespace mccd {
 
-const char* to_string(Method m) {
-  switch (m) {
-    case Method::BruteForce: return "bruteforce";
-    case Method::Traverse: return "traverse";
-    case Method::Phc: return "phc";
-    case Method::Fbd: return "fbd";
-  }
+namespace {
+
+/// One enum's names: each value with its name, the first entry of a value being the name it
+/// is printed as (later ones are accepted aliases).
+template <class E>
+struct Named {
+  E value;
+  const char* name;
+};
+
+template <class E, std::size_t N>
+const char* name_of(const Named<E> (&names)[N], E value) {
+  for (const Named<E>& n : names)
+    if (n.value == value) return n.name;
   return "?";
 }
 
-Method parse_method(const char* name) {
-  if (!std::strcmp(name, "bruteforce")) return Method::BruteForce;
-  if (!std::strcmp(name, "traverse")) return Method::Traverse;
-  if (!std::strcmp(name, "phc")) return Method::Phc;
-  if (!std::strcmp(name, "fbd") || !std::strcmp(name, "front")) return Method::Fbd;
-  throw Error(std::string("unknown method '") + name + "' (expected bruteforce, traverse, phc or fbd)");
-}
-
-const char* to_string(BvhBuild b) {
-  switch (b) {
-    case BvhBuild::Median: return "median";
-    case BvhBuild::Sah: return "sah";
+/// "a, b or c": the names of a table, aliases left out.
+template <class E, std::size_t N>
+std::string expected_names(const Named<E> (&names)[N]) {
+  std::string expected;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0 && names[i].value == names[i - 1].value) continue;  // an alias
+    bool last = true;
+    for (std::size_t k = i + 1; k < N; ++k) last = last && names[k].value == names[i].value;
+    expected += expected.empty() ? "" : last ? " or " : ", ";
+    expected += names[i].name;
   }
-  return "?";
+  return expected;
 }
 
-BvhBuild parse_bvh_build(const char* name) {
-  if (!std::strcmp(name, "median")) return BvhBuild::Median;
-  if (!std::strcmp(name, "sah")) return BvhBuild::Sah;
-  throw Error(std::string("unknown BVH build '") + name + "' (expected median or sah)");
+/// The value named `name`, or an Error naming `what` and the names expected.
+template <class E, std::size_t N>
+E parse_named(const Named<E> (&names)[N], const char* name, const char* what) {
+  for (const Named<E>& n : names)
+    if (!std::strcmp(n.name, name)) return n.value;
+  throw Error(std::string("unknown ") + what + " '" + name + "' (expected " + expected_names(names) + ")");
 }
 
-const char* to_string(Representatives r) {
-  switch (r) {
-    case Representatives::Default: return "default";
-    case Representatives::Leaf: return "leaf";
-    case Representatives::Canonical: return "canonical";
-  }
-  return "?";
+/// An Error when `value` (a SceneOptions field `field` of enum type `type`) is none of the
+/// table's values.
+template <class E, std::size_t N>
+void check_named(const Named<E> (&names)[N], E value, const char* field, const char* type) {
+  for (const Named<E>& n : names)
+    if (n.value == value) return;
+  throw Error(std::string("scene options: ") + field + " " + std::to_string(static_cast<unsigned>(value)) +
+              " is not a " + type + " (expected " + expected_names(names) + ")");
 }
 
+constexpr Named<Method> kMethods[] = {{Method::BruteForce, "bruteforce"},
+                                      {Method::Traverse, "traverse"},
+                                      {Method::Phc, "phc"},
+                                      {Method::Fbd, "fbd"},
+                                      {Method::Fbd, "front"}};
+constexpr Named<BvhBuild> kBvhBuilds[] = {{BvhBuild::Median, "median"}, {BvhBuild::Sah, "sah"}};
+constexpr Named<Representatives> kRepresentatives[] = {{Representatives::Default, "default"},
+                                                       {Representatives::Leaf, "leaf"},
+                                                       {Representatives::Canonical, "canonical"}};
+constexpr Named<VolumeKind> kVolumes[] = {{VolumeKind::Kdop18, "kdop18"}, {VolumeKind::Aabb, "aabb"}};
+
+}  // namespace
+
+const char* to_string(Method m) { return name_of(kMethods, m); }
+Method parse_method(const char* name) { return parse_named(kMethods, name, "method"); }
+const char* to_string(BvhBuild b) { return name_of(kBvhBuilds, b); }
+BvhBuild parse_bvh_build(const char* name) { return parse_named(kBvhBuilds, name, "BVH build"); }
+const char* to_string(Representatives r) { return name_of(kRepresentatives, r); }
 Representatives parse_representatives(const char* name) {
-  if (!std::strcmp(name, "default")) return Representatives::Default;
-  if (!std::strcmp(name, "leaf")) return Representatives::Leaf;
-  if (!std::strcmp(name, "canonical")) return Representatives::Canonical;
-  throw Error(std::string("unknown representative rule '") + name + "' (expected default, leaf or canonical)");
+  return parse_named(kRepresentatives, name, "representative rule");
 }
+const char* to_string(VolumeKind v) { return name_of(kVolumes, v); }
+VolumeKind parse_volume(const char* name) { return parse_named(kVolumes, name, "bounding volume"); }
 
 Representatives resolved_representatives(const SceneOptions& o) {
   if (o.representatives != Representatives::Default) return o.representatives;
   return o.bvh == BvhBuild::Median ? Representatives::Canonical : Representatives::Leaf;
 }
 
-const char* to_string(VolumeKind v) {
-  switch (v) {
-    case VolumeKind::Kdop18: return "kdop18";
-    case VolumeKind::Aabb: return "aabb";
-  }
-  return "?";
-}
-
-VolumeKind parse_volume(const char* name) {
-  if (!std::strcmp(name, "kdop18")) return VolumeKind::Kdop18;
-  if (!std::strcmp(name, "aabb")) return VolumeKind::Aabb;
-  throw Error(std::string("unknown bounding volume '") + name + "' (expected kdop18 or aabb)");
-}
-
 void validate(const SceneOptions& o) {
-  if (static_cast<unsigned>(o.method) > static_cast<unsigned>(Method::Fbd))
-    throw Error("scene options: method " + std::to_string(static_cast<unsigned>(o.method)) +
-                " is not a Method (expected bruteforce, traverse, phc or fbd)");
-  if (static_cast<unsigned>(o.volume) > static_cast<unsigned>(VolumeKind::Aabb))
-    throw Error("scene options: volume " + std::to_string(static_cast<unsigned>(o.volume)) +
-                " is not a VolumeKind (expected kdop18 or aabb)");
-  if (static_cast<unsigned>(o.bvh) > static_cast<unsigned>(BvhBuild::Sah))
-    throw Error("scene options: bvh " + std::to_string(static_cast<unsigned>(o.bvh)) +
-                " is not a BvhBuild (expected median or sah)");
-  if (static_cast<unsigned>(o.representatives) > static_cast<unsigned>(Representatives::Canonical))
-    throw Error("scene options: representatives " + std::to_string(static_cast<unsigned>(o.representatives)) +
-                " is not a Representatives (expected default, leaf or canonical)");
+  check_named(kMethods, o.method, "method", "Method");
+  check_named(kVolumes, o.volume, "volume", "VolumeKind");
+  check_named(kBvhBuilds, o.bvh, "bvh", "BvhBuild");
+  check_named(kRepresentatives, o.representatives, "representatives", "Representatives");
   if (o.leaf_size > 16)
     throw Error("scene options: leaf_size must be 0 (default) or 1 to 16, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))
