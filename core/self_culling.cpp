@@ -71,6 +71,99 @@ unsigned SelfCulling::normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c
   return bits & wanted;
 }
 
+namespace {
+
+double max_norm(const Vec3& v) { return std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])}); }
+
+/// A sum of at most 18 products of three differences of doubles, each factor at most U, V, W
+/// in magnitude, computed with each difference, product and sum rounded once (in any order):
+/// within about 12u * 18 U V W of its exact value. kBound3 = 128u leaves room for the
+/// rounding of the bound itself.
+constexpr double kBound3 = 0x1p-46;
+
+/// The sign of `v` when its exact counterpart is within kBound3 * `scale` of it: +1, -1, or 0
+/// (not certain, or a scale small enough that products may have lost bits to underflow).
+[[gnu::always_inline]] inline int certain_sign(double v, double scale) {
+  if (!(scale > kTiny)) return 0;
+  return v > kBound3 * scale ? 1 : v < -kBound3 * scale ? -1 : 0;
+}
+
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+}  // namespace
+
+int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,
+                           const Vec3& b1, const Vec3& c1, const Vec3& p1) {
+  // det(u(t), v(t), w(t)) with u = b - a, v = c - a, w = p - a, each linear in t: a cubic.
+  // Its Bernstein coefficients are the trilinear form's values at the ends (the middle two
+  // times 3, which keeps their signs): with n0 = u0 x v0, n1 = u1 x v1, nm = u0 x v1 + u1 x v0,
+  // D0 = n0.w0, D1 = nm.w0 + n0.w1, D2 = nm.w1 + n1.w0, D3 = n1.w1, each a sum of at most 18
+  // products of three differences.
+  const Vec3 u0 = b0 - a0, u1 = b1 - a1, v0 = c0 - a0, v1 = c1 - a1, w0 = p0 - a0, w1 = p1 - a1;
+  const Vec3 n0 = cross(u0, v0), n1 = cross(u1, v1), nm = cross(u0, v1) + cross(u1, v0);
+  const double d[4] = {dot(n0, w0), dot(nm, w0) + dot(n0, w1), dot(nm, w1) + dot(n1, w0), dot(n1, w1)};
+  const double scale = 18 * std::max(max_norm(u0), max_norm(u1)) * std::max(max_norm(v0), max_norm(v1)) *
+                       std::max(max_norm(w0), max_norm(w1));
+  const int s0 = certain_sign(d[0], scale), s1 = certain_sign(d[1], scale), s2 = certain_sign(d[2], scale),
+            s3 = certain_sign(d[3], scale);
+  return s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3 ? s0 : 0;
+}
+
+bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
+                                 const Positions& x1) const {
+  const std::uint32_t node = closed_[k];
+  // c(t): the mean of the component's vertices at each end (any point would do; this one is
+  // inside a star-shaped body).
+  Vec3 m0 = Vec3::Zero(), m1 = Vec3::Zero();
+  const std::uint32_t vb = closed_vertex_begin_[k], ve = closed_vertex_begin_[k + 1];
+  for (std::uint32_t i = vb; i != ve; ++i) {
+    m0 += x0.point(closed_vertices_[i]);
+    m1 += x1.point(closed_vertices_[i]);
+  }
+  m0 /= double(ve - vb);
+  m1 /= double(ve - vb);
+  if (!m0.allFinite() || !m1.allFinite()) return false;
+  const auto& faces = topo.faces();
+  const std::uint32_t end = node + bvh.subtree_size(node);
+  // The ray from c(0) towards a point inside the first triangle, near its centroid but off the
+  // planes of symmetry a regular mesh may have (a ray in the plane of c(0) and another
+  // triangle's edge could not be counted).
+  std::uint32_t first = node;
+  while (!bvh.leaf(first)) first = bvh.left(first);
+  const Triangle& t0 = faces[bvh.leaf_triangles(first)[0]];
+  const Vec3 r = 0.31 * x0.point(t0[0]) + 0.33 * x0.point(t0[1]) + 0.36 * x0.point(t0[2]) - m0;
+  const double nr = max_norm(r);
+  int sign = 0;
+  unsigned hits = 0;
+  for (std::uint32_t i = node; i != end; ++i) {
+    if (!bvh.leaf(i)) continue;
+    const std::uint32_t* ids = bvh.leaf_triangles(i);
+    for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
+      const Triangle& t = faces[ids[q]];
+      const Vec3 a0 = x0.point(t[0]), b0 = x0.point(t[1]), c0 = x0.point(t[2]);
+      const int s = star_sign(a0, b0, c0, m0, x1.point(t[0]), x1.point(t[1]), x1.point(t[2]), m1);
+      if (s == 0 || (sign != 0 && s != sign)) return false;
+      sign = s;
+      // Seen from c(0) the triangle spans the cone of a, b, c, oriented by -s; the ray is
+      // inside it when r = alpha a + beta b + gamma c with all three positive (Cramer's rule).
+      const Vec3 a = a0 - m0, b = b0 - m0, c = c0 - m0;
+      const double na = max_norm(a), nb = max_norm(b), nc = max_norm(c);
+      const int sa = certain_sign(dot(r, cross(b, c)), 6 * nr * nb * nc),
+                sb = certain_sign(dot(a, cross(r, c)), 6 * na * nr * nc),
+                sc = certain_sign(dot(a, cross(b, r)), 6 * na * nb * nr);
+      const int inside = (sa == -s) + (sb == -s) + (sc == -s), outside = (sa == s) + (sb == s) + (sc == s);
+      if (inside == 3)
+        ++hits;
+      else if (outside == 0)
+        return false;  // too close to the cone's boundary to tell
+    }
+  }
+  return hits == 1;
+}
+
 bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t* end, unsigned axis,
                                  const Positions& x0, const Positions& x1) {
   const std::size_t n = static_cast<std::size_t>(end - begin);
@@ -183,12 +276,36 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1) {
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
+  // Closed surfaces first (each certified whole covers every node below it), in parallel.
+  dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k != e; ++k) {
+      // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
+      // surface that is not star-shaped from its mean costs a pass over its triangles for
+      // nothing. A success starts over.
+      Backoff& o = closed_backoff_[k];
+      closed_ok_[k] = 0;
+      if (o.skip) {
+        --o.skip;
+        continue;
+      }
+      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1);
+      o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
+      o.skip = (1 << o.failures) - 1;
+    }
+  });
+  auto under_certified_closed = [&](std::uint32_t node) {
+    return closed_above_[node] != kNone && closed_ok_[closed_above_[node]];
+  };
   // The signs each needed leaf's faces share, in parallel over the nodes (a leaf writes its
   // own); then every inner node's, the signs both children share.
   dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const std::uint32_t node = static_cast<std::uint32_t>(i);
       if (!bvh.leaf(node) || !signed_[node]) continue;
+      if (under_certified_closed(node)) {
+        signs_[node] = 0;  // covered whole; never read this step
+        continue;
+      }
       unsigned s = 0x3F;
       const std::uint32_t* ids = bvh.leaf_triangles(node);
       for (std::uint32_t k = 0; k < bvh.leaf_count(node) && s; ++k) {
@@ -205,6 +322,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   // contour passes along that axis covers its subtree. The subtrees of the tree's top in
   // parallel: each writes only its own nodes, and the counts add up the same either way.
   auto certifies = [&](std::uint32_t i) {
+    if (closed_above_[i] != kNone && closed_[closed_above_[i]] == i && closed_ok_[closed_above_[i]]) return true;
     if (!disk(i)) return false;
     for (unsigned d = 0; d < 3; ++d)
       if ((signs_[i] >> (2 * d) & 3u) && contour_simple(cycle_begin(i), cycle_end(i), d, x0, x1)) return true;

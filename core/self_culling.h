@@ -30,8 +30,25 @@
 /// and so is a covered leaf's own pairs. Culling is exact: it removes only pairs that cannot
 /// touch, so contacts do not change (tests compare against brute force).
 ///
+/// Closed surfaces (a BVH node whose triangles are a whole mesh component that is a closed,
+/// regular, consistently oriented surface of Euler characteristic 2, a topological sphere) get
+/// a second certificate, by central projection from a point c(t) moving linearly between the
+/// means of the component's vertices at the two ends of the step:
+///  1. every triangle (a, b, c) keeps one strict orientation seen from c(t) over the whole step
+///     (det(b - a, c - a, c(t) - a), a cubic in t: its four Bernstein coefficients share a sign
+///     with certainty under a rounding bound), all triangles the same, and
+///  2. at the start, a ray from c(0) (towards the centroid of the first triangle) enters
+///     exactly one triangle's cone (each test's sign certain under its bound).
+/// Then c(t) lies on no triangle, the central projection onto the unit sphere around c(t) is a
+/// branched covering whose degree is constant over the step and, by 2, of magnitude 1 at the
+/// start; by Riemann-Hurwitz (2 = 2 * 1 - branching) it has no branch point, so it is a
+/// homeomorphism at every time: no two distinct points of the surface coincide. A deforming
+/// star-shaped body (a soft ball, the spheres scene) is certified whole, including the pairs
+/// across the cuts between the disks below it.
+///
 /// Not used with a minimum distance (injectivity says nothing about how close two parts come)
 /// nor under the paper's canonical rule (its experiments stay as they were).
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -50,8 +67,8 @@ class SelfCulling {
   /// Finds the disk nodes of `bvh` among the meshes with self-collision of `scene`.
   SelfCulling(const BvhTopology& bvh, const SceneTopology& scene);
 
-  /// Whether any node is a disk (otherwise certify() has nothing to do).
-  bool possible() const { return disks_ != 0; }
+  /// Whether any node is a disk or a closed surface (otherwise certify() has nothing to do).
+  bool possible() const { return disks_ != 0 || !closed_.empty(); }
   std::size_t num_disks() const { return disks_; }
 
   /// Certifies the nodes for the step x0 -> x1 (global vertex ids); until end_step(), covered()
@@ -80,6 +97,15 @@ class SelfCulling {
   /// Only the axes with a bit in `wanted` are looked at (the others' bits are 0).
   static unsigned normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
                                const Vec3& c1, unsigned wanted = 0x3F);
+  /// The sign (+1, -1, or 0: not certain) that det(b - a, c - a, p - a) keeps over the step,
+  /// every point moving linearly from its `0` to its `1` position. Exposed for the tests.
+  static int star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,
+                       const Vec3& b1, const Vec3& c1, const Vec3& p1);
+  /// Whether BVH node n is a closed surface (a candidate for the central-projection
+  /// certificate).
+  bool closed(std::uint32_t n) const { return std::binary_search(closed_.begin(), closed_.end(), n); }
+  std::size_t num_closed() const { return closed_.size(); }
+
   /// Whether the closed polyline `cycle` (vertex ids), projected along axis d, stays simple
   /// over the step x0 -> x1. Exposed for the tests.
   static bool contour_simple(const std::uint32_t* begin, const std::uint32_t* end, unsigned axis, const Positions& x0,
@@ -89,6 +115,19 @@ class SelfCulling {
   std::vector<std::uint32_t> cycle_offset_;  ///< CSR over nodes; empty range: not a disk
   std::vector<std::uint32_t> cycle_;
   std::size_t disks_ = 0;
+  std::vector<std::uint32_t> closed_;             ///< closed-surface nodes, ascending
+  std::vector<std::uint32_t> closed_vertex_begin_, closed_vertices_;  ///< CSR over closed_: vertex ids
+  std::vector<std::uint32_t> closed_above_;  ///< per node: index in closed_ of the closed node above, or kNone
+  std::vector<std::uint8_t> closed_ok_;      ///< per index of closed_, this step: certified
+  struct Backoff {
+    int failures = 0, skip = 0;  ///< failures in a row; steps left without a try
+  };
+  std::vector<Backoff> closed_backoff_;  ///< per index of closed_
+  void find_closed(const BvhTopology& bvh, const SceneTopology& scene, const std::vector<std::uint8_t>& regular,
+                   const std::vector<std::uint32_t>& component);
+  /// The central-projection certificate of closed_[k] for the step.
+  bool certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
+                      const Positions& x1) const;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)

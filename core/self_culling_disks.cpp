@@ -307,6 +307,72 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
   if (n == 1) signed_[0] = disk(0);
   signs_.assign(n, 0);
   top_.assign(n, kNone);
+  find_closed(bvh, scene, regular, component);
+}
+
+void SelfCulling::find_closed(const BvhTopology& bvh, const SceneTopology& scene, const std::vector<std::uint8_t>& regular,
+                              const std::vector<std::uint32_t>& component) {
+  const MeshTopology& topo = scene.topology();
+  const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
+  // Per component: its faces, and whether it is closed and regular (each edge with exactly two
+  // faces, each face regular) with V - E + F = 2.
+  const std::size_t nf = topo.num_faces();
+  std::vector<std::uint32_t> faces_of(nf, 0);
+  std::vector<std::uint8_t> sphere(nf, 1);
+  for (std::size_t f = 0; f < nf; ++f) {
+    ++faces_of[component[f]];
+    if (!regular[f]) sphere[component[f]] = 0;
+  }
+  std::vector<std::int64_t> chi(nf, 0);
+  for (std::size_t f = 0; f < nf; ++f) chi[component[f]] += 1;
+  for (std::size_t e = 0; e < topo.num_edges(); ++e) {
+    const std::uint32_t c = component[topo.edge_faces_begin(e)[0]];
+    chi[c] -= 1;
+    if (topo.edge_face_count(e) != 2) sphere[c] = 0;
+  }
+  for (std::size_t v = 0; v < topo.num_vertices(); ++v)
+    if (topo.vertex_face_count(v)) chi[component[*topo.vertex_faces_begin(v)]] += 1;
+  // Per node, bottom-up: the one component of all its triangles, or kNone; and their number.
+  std::vector<std::uint32_t> comp(n, kNone), count(n, 0);
+  for (std::uint32_t i = n; i-- > 0;) {
+    if (bvh.leaf(i)) {
+      const std::uint32_t* ids = bvh.leaf_triangles(i);
+      comp[i] = component[ids[0]];
+      for (std::uint32_t k = 1; k < bvh.leaf_count(i); ++k)
+        if (component[ids[k]] != comp[i]) comp[i] = kNone;
+      count[i] = bvh.leaf_count(i);
+    } else {
+      const std::uint32_t l = bvh.left(i), r = bvh.right(i);
+      comp[i] = comp[l] == comp[r] ? comp[l] : kNone;
+      count[i] = count[l] + count[r];
+    }
+  }
+  closed_above_.assign(n, kNone);
+  closed_vertex_begin_.assign(1, 0);
+  for (std::uint32_t i = 0; i < n;) {
+    const std::uint32_t m = bvh.mesh_of_node(i), c = comp[i];
+    const bool candidate = m != BvhTopology::kMixed && !scene.skips(m, m) && c != kNone && count[i] == faces_of[c] &&
+                           sphere[c] && chi[c] == 2 && count[i] >= 4;
+    if (!candidate) {
+      ++i;
+      continue;
+    }
+    const std::uint32_t end = i + bvh.subtree_size(i);
+    std::fill(closed_above_.begin() + i, closed_above_.begin() + end, static_cast<std::uint32_t>(closed_.size()));
+    closed_.push_back(i);
+    std::vector<std::uint32_t> vs;
+    for (std::uint32_t k = i; k < end; ++k)
+      if (bvh.leaf(k))
+        for (std::uint32_t t = 0; t < bvh.leaf_count(k); ++t)
+          for (std::uint32_t v : topo.faces()[bvh.leaf_triangles(k)[t]]) vs.push_back(v);
+    std::sort(vs.begin(), vs.end());
+    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+    closed_vertices_.insert(closed_vertices_.end(), vs.begin(), vs.end());
+    closed_vertex_begin_.push_back(static_cast<std::uint32_t>(closed_vertices_.size()));
+    i = end;
+  }
+  closed_ok_.assign(closed_.size(), 0);
+  closed_backoff_.assign(closed_.size(), Backoff{});
 }
 
 }  // namespace mccd::detail

@@ -146,6 +146,30 @@ TEST(SelfCulling, APunctureOrAHoleIsNotADisk) {
   EXPECT_TRUE(SelfCulling(whole.bvh, whole.scene).disk(0));
 }
 
+TEST(SelfCulling, AClosedSphereIsACandidateAndAGridOrATorusIsNot) {
+  Built s({make_sphere_mesh(8, 16)}, 4);
+  SelfCulling cs(s.bvh, s.scene);
+  EXPECT_EQ(cs.num_closed(), 1u);
+  EXPECT_TRUE(cs.closed(0));  // the root: the whole sphere
+  EXPECT_TRUE(cs.possible());
+  Built g({make_grid_mesh(6)}, 4);
+  EXPECT_EQ(SelfCulling(g.bvh, g.scene).num_closed(), 0u);
+  // two spheres in one mesh: each component its own candidate (where the tree has a node that
+  // is exactly one of them), never their union
+  TriMesh two = make_sphere_mesh(6, 12);
+  const TriMesh other = make_sphere_mesh(6, 12, 1.0, Vec3(5, 0, 0));
+  const auto base = static_cast<std::uint32_t>(two.vertices.rows());
+  Positions both(two.vertices.rows() + other.vertices.rows());
+  for (std::size_t v = 0; v < two.vertices.rows(); ++v) both.set_point(v, two.vertices.point(v));
+  for (std::size_t v = 0; v < other.vertices.rows(); ++v) both.set_point(base + v, other.vertices.point(v));
+  for (const Triangle& f : other.faces) two.faces.push_back({f[0] + base, f[1] + base, f[2] + base});
+  two.vertices = both;
+  Built b({two}, 4);
+  SelfCulling cb(b.bvh, b.scene);
+  EXPECT_EQ(cb.num_closed(), 2u);
+  EXPECT_FALSE(cb.closed(0));
+}
+
 TEST(SelfCulling, ADiskOverLeavesThatAreNotIsCertified) {
   // The deforming spheres' first frame (four UV spheres of 22 rings): some SAH leaves are not
   // disks (their triangles meet at single vertices), but nodes above them are. Some of those
@@ -344,6 +368,156 @@ TEST(SelfCulling, GeneratedScenesReportTheContactsOfBruteForce) {
       EXPECT_GT(culled, 0u) << name;
     }
   }
+}
+
+TEST(SelfCulling, StarSignsHoldAtSampledTimesAndFailWhereTheOrientationTurns) {
+  // det(b - a, c - a, p - a) over the step, exactly in long double at 65 times: wherever
+  // star_sign names a sign, every sample has it (not a proof, a check of the coefficients).
+  auto det = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    const long double u[3] = {(long double)b[0] - a[0], (long double)b[1] - a[1], (long double)b[2] - a[2]};
+    const long double v[3] = {(long double)c[0] - a[0], (long double)c[1] - a[1], (long double)c[2] - a[2]};
+    const long double w[3] = {(long double)p[0] - a[0], (long double)p[1] - a[1], (long double)p[2] - a[2]};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coord(-1, 1), move(-0.6, 0.6);
+  int certain = 0, uncertain = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Vec3 q0[4], q1[4];
+    for (int k = 0; k < 4; ++k) {
+      q0[k] = Vec3(coord(rng), coord(rng), coord(rng));
+      const double scale = n % 7 == 0 ? 0.0 : n % 5 == 0 ? 3.0 : 0.3;
+      q1[k] = q0[k] + scale * Vec3(move(rng), move(rng), move(rng));
+    }
+    const int s = SelfCulling::star_sign(q0[0], q0[1], q0[2], q0[3], q1[0], q1[1], q1[2], q1[3]);
+    (s ? certain : uncertain) += 1;
+    if (!s) continue;
+    for (int i = 0; i <= 64; ++i) {
+      const double t = i / 64.0;
+      Vec3 q[4];
+      for (int k = 0; k < 4; ++k) q[k] = (1 - t) * q0[k] + t * q1[k];
+      const long double d = det(q[0], q[1], q[2], q[3]);
+      ASSERT_TRUE(s > 0 ? d > 0 : d < 0) << n << " t " << t;
+    }
+  }
+  EXPECT_GT(certain, 10000);
+  EXPECT_GT(uncertain, 100);
+  // a point passing through the triangle's plane, and one on it at the start: no sign
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_EQ(SelfCulling::star_sign(a, b, c, Vec3(0.2, 0.2, 1), a, b, c, Vec3(0.2, 0.2, -1)), 0);
+  EXPECT_EQ(SelfCulling::star_sign(a, b, c, Vec3(5, 5, 0), a, b, c, Vec3(5, 5, 1)), 0);
+  EXPECT_EQ(SelfCulling::star_sign(a, b, c, Vec3(0.2, 0.2, 1), a, b, c, Vec3(3, 3, 0.1)), 1);
+  EXPECT_EQ(SelfCulling::star_sign(a, c, b, Vec3(0.2, 0.2, 1), a, c, b, Vec3(3, 3, 0.1)), -1);
+}
+
+namespace {
+/// One closed mesh moving from `x0` to `x1`: the contacts with culling (every method) equal
+/// brute force's; returns the patches certified by fbd.
+std::uint64_t closed_step(const TriMesh& m, const Positions& x1) {
+  SceneOptions o;
+  o.leaf_size = 4;
+  std::uint64_t certified = 0;
+  for (Method method : {Method::Traverse, Method::Phc, Method::Fbd}) {
+    Scene s({m}, o), brute({m});
+    const StepResult r = s.advance({PositionsView(x1)}, method);
+    const StepResult p = brute.step({PositionsView(m.vertices)}, {PositionsView(x1)}, Method::BruteForce);
+    EXPECT_EQ(r.contacts, p.contacts) << to_string(method);
+    if (method == Method::Fbd) certified = r.stats.culled_patches;
+  }
+  return certified;
+}
+}  // namespace
+
+TEST(SelfCulling, AClosedSurfaceIsCertifiedWholeOnlyWhileStarShaped) {
+  const TriMesh ball = make_sphere_mesh(10, 20);
+  // pulsating and drifting: certified whole (one patch, the root)
+  Positions x1(ball.vertices.rows());
+  for (std::size_t v = 0; v < x1.rows(); ++v) {
+    const Vec3 p = ball.vertices.point(v);
+    x1.set_point(v, Vec3(0.3, -0.2, 0.1) + (1.0 + 0.1 * std::sin(4 * p.x() + 3 * p.z())) * p);
+  }
+  Scene s({ball});
+  const StepResult r = s.advance({PositionsView(x1)});
+  EXPECT_EQ(r.stats.culled_patches, 1u);
+  EXPECT_EQ(r.stats.leaf_pairs, 0u);  // every leaf pair of the ball lies under the root
+  EXPECT_EQ(closed_step(ball, x1), 1u);
+  // the top cap pushed down through the bottom: it collides with itself, so it must not be
+  // certified whole, and every contact is found
+  Positions dent(ball.vertices.rows());
+  for (std::size_t v = 0; v < dent.rows(); ++v) {
+    const Vec3 p = ball.vertices.point(v);
+    dent.set_point(v, p.z() > 0.6 ? Vec3(p.x(), p.y(), p.z() - 1.9) : p);
+  }
+  SceneOptions o;
+  o.leaf_size = 4;
+  Scene plain({ball}, o);
+  const StepResult d = plain.advance({PositionsView(dent)});
+  EXPECT_GT(d.contacts.size(), 0u);
+  EXPECT_GT(d.stats.leaf_pairs, 0u);
+  closed_step(ball, dent);
+  // bent into a C (its centre of mass outside it): not star-shaped from there, not certified
+  // whole, though its disks may be
+  Positions bent(ball.vertices.rows());
+  for (std::size_t v = 0; v < bent.rows(); ++v) {
+    const Vec3 p = ball.vertices.point(v);
+    const double a = 1.4 * p.x();  // the x axis wound around a circle of radius 1.5
+    bent.set_point(v, Vec3((1.5 + 0.4 * p.y()) * std::sin(a), (1.5 + 0.4 * p.y()) * std::cos(a), 0.4 * p.z()));
+  }
+  Scene b({ball}, o);
+  EXPECT_GT(b.advance({PositionsView(bent)}).stats.leaf_pairs, 0u);
+  closed_step(ball, bent);
+}
+
+TEST(SelfCulling, ASurfaceWoundTwiceAroundItsCentreIsNotCertified) {
+  // A bipyramid over a 7-gon whose corners wind twice around the z axis: a closed surface of
+  // Euler characteristic 2 whose every triangle faces away from the centre through the step,
+  // so only the count of the ray (two triangles, not one) keeps it from being certified; its
+  // triangles pass through each other.
+  const int n = 7;
+  TriMesh m;
+  m.vertices = Positions(n + 2);
+  const auto N = static_cast<std::uint32_t>(n), S = static_cast<std::uint32_t>(n + 1);
+  for (int k = 0; k < n; ++k) {
+    const double a = 4 * kPi * k / n;
+    m.vertices.set_point(k, Vec3(std::cos(a), std::sin(a), 0));
+    const auto e = static_cast<std::uint32_t>(k), f = static_cast<std::uint32_t>((k + 1) % n);
+    m.faces.push_back({N, e, f});
+    m.faces.push_back({S, f, e});
+  }
+  m.vertices.set_point(N, Vec3(0, 0, 1));
+  m.vertices.set_point(S, Vec3(0, 0, -1));
+  Positions x1 = m.vertices;
+  x1.set_point(N, Vec3(0.3, 0.1, 0.8));
+  x1.set_point(S, Vec3(-0.1, -0.3, -0.7));
+  for (int k = 0; k < n; ++k) {
+    const double a = 4 * kPi * k / n + 0.05 * k;
+    x1.set_point(k, Vec3(std::cos(a), std::sin(a), 0.05 * (k % 3)));
+  }
+  // every triangle keeps one orientation seen from the moving mean of the vertices
+  Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero();
+  for (std::size_t v = 0; v < m.vertices.rows(); ++v) c0 += m.vertices.point(v) / (n + 2), c1 += x1.point(v) / (n + 2);
+  for (const Triangle& t : m.faces)
+    ASSERT_EQ(SelfCulling::star_sign(m.vertices.point(t[0]), m.vertices.point(t[1]), m.vertices.point(t[2]), c0,
+                                     x1.point(t[0]), x1.point(t[1]), x1.point(t[2]), c1),
+              SelfCulling::star_sign(m.vertices.point(m.faces[0][0]), m.vertices.point(m.faces[0][1]),
+                                     m.vertices.point(m.faces[0][2]), c0, x1.point(m.faces[0][0]),
+                                     x1.point(m.faces[0][1]), x1.point(m.faces[0][2]), c1));
+  EXPECT_NE(SelfCulling::star_sign(m.vertices.point(m.faces[0][0]), m.vertices.point(m.faces[0][1]),
+                                   m.vertices.point(m.faces[0][2]), c0, x1.point(m.faces[0][0]),
+                                   x1.point(m.faces[0][1]), x1.point(m.faces[0][2]), c1),
+            0);
+  Built b({m}, 1);
+  EXPECT_EQ(SelfCulling(b.bvh, b.scene).num_closed(), 1u);
+  Scene brute({m});
+  const StepResult p = brute.step({PositionsView(m.vertices)}, {PositionsView(x1)}, Method::BruteForce);
+  EXPECT_GT(p.contacts.size(), 0u);
+  SceneOptions o;
+  o.leaf_size = 1;
+  Scene s({m}, o);
+  const StepResult r = s.advance({PositionsView(x1)});
+  EXPECT_GT(r.stats.leaf_pairs, 0u);  // the root is not certified
+  EXPECT_EQ(r.contacts, p.contacts);
+  closed_step(m, x1);
 }
 
 TEST(SelfCulling, NotUsedWithAMinimumDistance) {
