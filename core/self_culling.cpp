@@ -113,7 +113,7 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
 }
 
 bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                                 const Positions& x1) const {
+                                 const Positions& x1, const RayMeets& ray_meets) const {
   const std::uint32_t node = closed_[k];
   // c(t): the mean of the component's vertices at each end (any point would do; this one is
   // inside a star-shaped body).
@@ -136,20 +136,37 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
   const Triangle& t0 = faces[bvh.leaf_triangles(first)[0]];
   const Vec3 r = 0.31 * x0.point(t0[0]) + 0.33 * x0.point(t0[1]) + 0.36 * x0.point(t0[2]) - m0;
   const double nr = max_norm(r);
-  int sign = 0;
-  unsigned hits = 0;
+  // Every triangle's orientation seen from c(t), certain and the same.
+  int s = 0;
   for (std::uint32_t i = node; i != end; ++i) {
     if (!bvh.leaf(i)) continue;
     const std::uint32_t* ids = bvh.leaf_triangles(i);
     for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
       const Triangle& t = faces[ids[q]];
-      const Vec3 a0 = x0.point(t[0]), b0 = x0.point(t[1]), c0 = x0.point(t[2]);
-      const int s = star_sign(a0, b0, c0, m0, x1.point(t[0]), x1.point(t[1]), x1.point(t[2]), m1);
-      if (s == 0 || (sign != 0 && s != sign)) return false;
-      sign = s;
+      const int sq = star_sign(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), m0, x1.point(t[0]), x1.point(t[1]),
+                               x1.point(t[2]), m1);
+      if (sq == 0 || (s != 0 && sq != s)) return false;
+      s = sq;
+    }
+  }
+  // The triangles whose cones hold the ray, among those of the nodes whose volumes may meet it
+  // at the start (the others' triangles certainly do not).
+  unsigned hits = 0;
+  for (std::uint32_t i = node; i != end;) {
+    if (ray_meets && !ray_meets(i, m0, r)) {
+      i += bvh.subtree_size(i);
+      continue;
+    }
+    if (!bvh.leaf(i)) {
+      ++i;
+      continue;
+    }
+    const std::uint32_t* ids = bvh.leaf_triangles(i);
+    for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
       // Seen from c(0) the triangle spans the cone of a, b, c, oriented by -s; the ray is
       // inside it when r = alpha a + beta b + gamma c with all three positive (Cramer's rule).
-      const Vec3 a = a0 - m0, b = b0 - m0, c = c0 - m0;
+      const Triangle& t = faces[ids[q]];
+      const Vec3 a = x0.point(t[0]) - m0, b = x0.point(t[1]) - m0, c = x0.point(t[2]) - m0;
       const double na = max_norm(a), nb = max_norm(b), nc = max_norm(c);
       const int sa = certain_sign(dot(r, cross(b, c)), 6 * nr * nb * nc),
                 sb = certain_sign(dot(a, cross(r, c)), 6 * na * nr * nc),
@@ -160,6 +177,7 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
       else if (outside == 0)
         return false;  // too close to the cone's boundary to tell
     }
+    ++i;
   }
   return hits == 1;
 }
@@ -273,7 +291,8 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
   return true;
 }
 
-void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1) {
+void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
+                          const RayMeets& ray_meets) {
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
   // Closed surfaces first (each certified whole covers every node below it), in parallel.
@@ -288,7 +307,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
         --o.skip;
         continue;
       }
-      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1);
+      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ray_meets);
       o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
       o.skip = (1 << o.failures) - 1;
     }

@@ -50,6 +50,7 @@
 /// nor under the paper's canonical rule (its experiments stay as they were).
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <mccd/core/bvh.h>
@@ -73,7 +74,12 @@ class SelfCulling {
 
   /// Certifies the nodes for the step x0 -> x1 (global vertex ids); until end_step(), covered()
   /// answers for this step. Serial over the tree's top, parallel over its leaves.
-  void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1);
+  /// `ray_meets(node, origin, direction)`, when given: false only when the ray from `origin`
+  /// along `direction` certainly meets no triangle of `node` at the start of the step (its
+  /// volume is apart from the ray); it lets the closed-surface certificate skip subtrees.
+  using RayMeets = std::function<bool(std::uint32_t, const Vec3&, const Vec3&)>;
+  void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
+               const RayMeets& ray_meets = {});
   /// Nothing is covered (a step that does not cull: brute force, or culling off).
   void clear() { active_ = false; }
 
@@ -127,7 +133,7 @@ class SelfCulling {
                    const std::vector<std::uint32_t>& component);
   /// The central-projection certificate of closed_[k] for the step.
   bool certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                      const Positions& x1) const;
+                      const Positions& x1, const RayMeets& ray_meets) const;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)

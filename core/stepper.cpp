@@ -5,6 +5,10 @@
 #include <mccd/parallel/phc.h>
 #include <mccd/parallel/volume_update.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
@@ -17,6 +21,29 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 
 void add_stats(WorkerOutputs& units, std::size_t n, StepStats& total) {
   for (std::size_t i = 0; i < n; ++i) total += units[i].stats;
+}
+
+/// Whether the ray from `o` along `d` may meet the first quarter's box of `v` (false only when
+/// it certainly does not: the box is grown by 2^-30 of the largest magnitude involved, far
+/// more than the relative error 2^-51 of each slab's parameters).
+template <class Quarters>
+bool ray_meets_box(const Quarters& v, const Vec3& o, const Vec3& d) {
+  double enter = 0, leave = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < 3; ++s) {
+    const double lo0 = v.lo(s)[0], hi0 = v.hi(s)[0];
+    if (!(lo0 <= hi0)) return true;  // empty or NaN: no claim
+    const double grow = 0x1p-30 * std::max({std::abs(lo0), std::abs(hi0), std::abs(o[s])}) + 0x1p-1000;
+    const double lo = lo0 - grow, hi = hi0 + grow;
+    if (d[s] == 0) {
+      if (o[s] < lo || o[s] > hi) return false;
+      continue;
+    }
+    double a = (lo - o[s]) / d[s], b = (hi - o[s]) / d[s];
+    if (a > b) std::swap(a, b);
+    enter = std::max(enter, a);
+    leave = std::min(leave, b);
+  }
+  return !(enter > leave);
 }
 }  // namespace
 
@@ -143,13 +170,19 @@ void Stepper<BV>::refit() {
     refit_plan_.run(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   result_.stats.refit_nodes = refit_plan_.nodes_refitted(bvh_);
   if (culling_.possible() && method_ != Method::BruteForce) {
-    culling_.certify(bvh_, scene_.topology(), x0_, x1_);
+    // A node's first-quarter box holds its triangles at the start of the step; the ray test
+    // grows it by far more than the rounding of its double arithmetic before it rules a node
+    // out.
+    culling_.certify(bvh_, scene_.topology(), x0_, x1_, [this](std::uint32_t n, const Vec3& o, const Vec3& d) {
+      return ray_meets_box(nodes_[n], o, d);
+    });
     result_.stats.culled_patches = culling_.certified();
   } else {
     culling_.clear();
   }
   result_.stats.t_refit = seconds_since(t);
 }
+
 
 template <BoundingVolume BV>
 typename Stepper<BV>::NodeVolume Stepper<BV>::leaf_volume(std::uint32_t node) const {
