@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 
 #include <mccd/parallel/volume_update.h>
@@ -136,19 +137,29 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
   const Triangle& t0 = faces[bvh.leaf_triangles(first)[0]];
   const Vec3 r = 0.31 * x0.point(t0[0]) + 0.33 * x0.point(t0[1]) + 0.36 * x0.point(t0[2]) - m0;
   const double nr = max_norm(r);
-  // Every triangle's orientation seen from c(t), certain and the same.
-  int s = 0;
-  for (std::uint32_t i = node; i != end; ++i) {
-    if (!bvh.leaf(i)) continue;
-    const std::uint32_t* ids = bvh.leaf_triangles(i);
-    for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
-      const Triangle& t = faces[ids[q]];
-      const int sq = star_sign(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), m0, x1.point(t[0]), x1.point(t[1]),
-                               x1.point(t[2]), m1);
-      if (sq == 0 || (s != 0 && sq != s)) return false;
-      s = sq;
+  // Every triangle's orientation seen from c(t), certain and the same: over blocks of the
+  // subtree's nodes in parallel (a large surface is most of the step's certification), each
+  // block's common sign merged into one (any order gives the same outcome).
+  std::atomic<int> common{2};  // 2: none yet; 0: failed
+  dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
+    int s = 2;
+    for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
+      if (!bvh.leaf(i)) continue;
+      const std::uint32_t* ids = bvh.leaf_triangles(i);
+      for (std::uint32_t q = 0; q < bvh.leaf_count(i) && s != 0; ++q) {
+        const Triangle& t = faces[ids[q]];
+        const int sq = star_sign(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), m0, x1.point(t[0]),
+                                 x1.point(t[1]), x1.point(t[2]), m1);
+        s = s == 2 || s == sq ? sq : 0;
+      }
     }
-  }
+    if (s == 2) return;  // no leaf in this block
+    int expected = 2;
+    if (!common.compare_exchange_strong(expected, s, std::memory_order_relaxed) && expected != s)
+      common.store(0, std::memory_order_relaxed);
+  });
+  const int s = common.load(std::memory_order_relaxed);
+  if (s != 1 && s != -1) return false;
   // The triangles whose cones hold the ray, among those of the nodes whose volumes may meet it
   // at the start (the others' triangles certainly do not).
   unsigned hits = 0;
