@@ -75,7 +75,7 @@ struct SceneOptions {
   VolumeKind volume = VolumeKind::Kdop18;
   BvhBuild bvh = BvhBuild::Sah;
   /// Triangles per BVH leaf, 1 to 16; 0 picks the build's default (1 for median, as the
-  /// paper; 12 for sah).
+  /// paper; 16, the most, for sah).
   unsigned leaf_size = 0;
   /// Where each feature pair is tested (Default: Leaf with sah, Canonical with median).
   Representatives representatives = Representatives::Default;

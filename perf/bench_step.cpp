@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
          "how the scene BVH is built: median or sah (default: sah)")
       ->type_name("NAME")
       ->check(parsed_by(parse_bvh_build));
-  app.add_option("--leaf", opt.leaf_size, "triangles per BVH leaf, 1 to 16 (default: 12 with sah, 1 with median)")
+  app.add_option("--leaf", opt.leaf_size, "triangles per BVH leaf, 1 to 16 (default: 16 with sah, 1 with median)")
       ->type_name("K")
       ->check(integer_in(1, 16));
   app.add_option_function<std::string>(

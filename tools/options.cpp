@@ -71,7 +71,7 @@ void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Represen
       ->type_name("NAME")
       ->check(CLI::IsMember({"median", "sah"}));
   app.add_option("--leaf-size", leaf_size,
-                 "triangles per BVH leaf, 1 to 16 (default: 12 with sah, 1 with median)")
+                 "triangles per BVH leaf, 1 to 16 (default: 16 with sah, 1 with median)")
       ->type_name("K")
       ->check(integer_in(1, 16));
   app.add_option_function<std::string>(
