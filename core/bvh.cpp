@@ -40,23 +40,24 @@ class Builder {
   }
   std::uint32_t depth() const { return depth_; }
 
-  /// The meshes `ids` (triangle ranges in `offsets`, contiguous in order_ since it starts as
-  /// the identity): one subtree per mesh under a top split at the median of the meshes'
-  /// centroids along their widest axis.
-  std::uint32_t build_meshes(std::vector<std::uint32_t> ids, const std::vector<std::size_t>& offsets,
-                             std::uint32_t level) {
+  /// The units `ids` (triangle ranges [offsets[u], offsets[u + 1]) of order_, each of one mesh,
+  /// unit_mesh[u]): one subtree per unit under a top split at the median of the units'
+  /// centroids along their widest axis. A node of the top whose units are all of one mesh is
+  /// of that mesh, otherwise kMixed.
+  std::uint32_t build_units(std::vector<std::uint32_t> ids, const std::vector<std::size_t>& offsets,
+                            const std::vector<std::uint32_t>& unit_mesh, std::uint32_t level) {
     if (ids.size() == 1) {
       const std::uint32_t first = static_cast<std::uint32_t>(nodes_.size());
       const std::uint32_t root = build(offsets[ids[0]], offsets[ids[0] + 1], level);
       node_mesh_.resize(nodes_.size(), BvhTopology::kMixed);
-      std::fill(node_mesh_.begin() + first, node_mesh_.end(), ids[0]);
+      std::fill(node_mesh_.begin() + first, node_mesh_.end(), unit_mesh[ids[0]]);
       return root;
     }
     std::vector<Vec3> centre(ids.size());
     Vec3 mn = Vec3::Constant(kInf), mx = -mn;
     for (std::size_t k = 0; k < ids.size(); ++k) {
       Vec3 sum = Vec3::Zero();
-      for (std::size_t t = offsets[ids[k]]; t < offsets[ids[k] + 1]; ++t) sum += tris_[t].centroid;
+      for (std::size_t t = offsets[ids[k]]; t < offsets[ids[k] + 1]; ++t) sum += tris_[order_[t]].centroid;
       centre[k] = sum / double(std::max<std::size_t>(1, offsets[ids[k] + 1] - offsets[ids[k]]));
       mn = mn.cwiseMin(centre[k]);
       mx = mx.cwiseMax(centre[k]);
@@ -74,9 +75,10 @@ class Builder {
     nodes_.push_back({0, 0});
     node_mesh_.resize(nodes_.size(), BvhTopology::kMixed);
     depth_ = std::max(depth_, level);
-    build_meshes(std::move(left), offsets, level + 1);
-    const std::uint32_t r = build_meshes(std::move(right), offsets, level + 1);
+    build_units(std::move(left), offsets, unit_mesh, level + 1);
+    const std::uint32_t r = build_units(std::move(right), offsets, unit_mesh, level + 1);
     nodes_[index] = {static_cast<std::uint32_t>(nodes_.size()), r};
+    if (node_mesh_[index + 1] == node_mesh_[r]) node_mesh_[index] = node_mesh_[r];
     return index;
   }
 
@@ -240,20 +242,93 @@ std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, 
   return out;
 }
 
+namespace {
+
+/// The units of the build: per mesh (`mesh_offsets`; none: one mesh of all `n` triangles), each
+/// connected component (triangles joined by shared vertices) that looks closed, F >= 4 even
+/// triangles over V = F / 2 + 2 vertices (what a closed surface of Euler characteristic 2 has,
+/// each edge shared by two triangles), on its own, then the mesh's other triangles as one unit.
+/// Writes the triangle order (units contiguous), the units' offsets into it and their meshes.
+void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, const std::vector<Triangle>& faces,
+                  std::vector<std::uint32_t>& order, std::vector<std::size_t>& offsets,
+                  std::vector<std::uint32_t>& unit_mesh) {
+  std::uint32_t nv = 0;
+  for (const Triangle& t : faces) nv = std::max({nv, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::uint32_t> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Triangle& t : faces)
+    for (int k = 1; k < 3; ++k) parent[root(t[k])] = root(t[0]);
+  std::vector<std::uint32_t> tris(nv, 0), verts(nv, 0);
+  for (const Triangle& t : faces) ++tris[root(t[0])];
+  std::vector<std::uint8_t> seen(nv, 0);
+  for (const Triangle& t : faces)
+    for (std::uint32_t v : t)
+      if (!seen[v]) seen[v] = 1, ++verts[root(v)];
+  auto closed = [&](std::uint32_t r) { return tris[r] >= 4 && tris[r] % 2 == 0 && verts[r] == tris[r] / 2 + 2; };
+  const std::size_t meshes = mesh_offsets.size() > 1 ? mesh_offsets.size() - 1 : 1;
+  order.clear();
+  offsets.assign(1, 0);
+  unit_mesh.clear();
+  std::vector<std::uint32_t> unit_of_root(nv, 0xffffffffu);
+  for (std::size_t m = 0; m < meshes; ++m) {
+    const std::size_t lo = mesh_offsets.size() > 1 ? mesh_offsets[m] : 0, hi = mesh_offsets.size() > 1 ? mesh_offsets[m + 1] : n;
+    if (lo == hi) continue;
+    // the closed components in order of their first triangle, then the rest
+    std::vector<std::vector<std::uint32_t>> units;
+    std::vector<std::uint32_t> rest;
+    for (std::size_t f = lo; f < hi; ++f) {
+      const std::uint32_t r = root(faces[f][0]);
+      if (!closed(r)) {
+        rest.push_back(static_cast<std::uint32_t>(f));
+        continue;
+      }
+      if (unit_of_root[r] == 0xffffffffu) {
+        unit_of_root[r] = static_cast<std::uint32_t>(units.size());
+        units.emplace_back();
+      }
+      units[unit_of_root[r]].push_back(static_cast<std::uint32_t>(f));
+    }
+    if (!rest.empty()) units.push_back(std::move(rest));
+    for (const auto& u : units) {
+      order.insert(order.end(), u.begin(), u.end());
+      offsets.push_back(order.size());
+      unit_mesh.push_back(static_cast<std::uint32_t>(m));
+    }
+  }
+}
+
+}  // namespace
+
 BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf,
-                         const std::vector<std::size_t>& mesh_offsets)
+                         const std::vector<std::size_t>& mesh_offsets, const std::vector<Triangle>* faces)
     : max_leaf_(std::clamp(max_leaf, 1u, kMaxLeaf)) {
   const std::size_t n = triangles.size();
   if (n == 0) return;
   nodes_.reserve(2 * n - 1);
   Builder b(triangles, kind, max_leaf_, nodes_, order_, node_mesh_);
-  std::vector<std::uint32_t> meshes;  // the meshes with triangles
-  for (std::size_t m = 0; m + 1 < mesh_offsets.size(); ++m)
-    if (mesh_offsets[m + 1] > mesh_offsets[m]) meshes.push_back(static_cast<std::uint32_t>(m));
-  if (meshes.empty())
+  std::vector<std::size_t> offsets;
+  std::vector<std::uint32_t> unit_mesh;
+  if (faces && faces->size() == n && kind != BvhBuild::Median) {
+    closed_units(n, mesh_offsets, *faces, order_, offsets, unit_mesh);
+  } else {
+    for (std::size_t m = 0; m + 1 < mesh_offsets.size(); ++m)
+      if (mesh_offsets[m + 1] > mesh_offsets[m]) {  // the meshes with triangles
+        if (offsets.empty()) offsets.push_back(mesh_offsets[m]);
+        offsets.push_back(mesh_offsets[m + 1]);  // the next mesh with triangles starts here
+        unit_mesh.push_back(static_cast<std::uint32_t>(m));
+      }
+  }
+  if (unit_mesh.empty()) {
     b.build(0, n, 0);
-  else
-    b.build_meshes(std::move(meshes), mesh_offsets, 0);
+  } else {
+    std::vector<std::uint32_t> ids(unit_mesh.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    b.build_units(std::move(ids), offsets, unit_mesh, 0);
+  }
   depth_ = b.depth();
 }
 

@@ -39,9 +39,14 @@ class BvhTopology {
   /// count. A range of at most `max_leaf` (1..16) triangles becomes a leaf.
   /// With `mesh_offsets` (triangle ranges of the meshes, [m, m + 1)), every mesh gets its own
   /// subtree, under a top built over the meshes (split at the median of their centroids along
-  /// the widest axis); mesh_of_node() then names the mesh below a node.
+  /// the widest axis); mesh_of_node() then names the mesh below a node (kMixed above nodes of
+  /// different meshes).
+  /// With `faces` (the triangles' vertex ids, for the SAH build), each connected component of
+  /// a mesh that looks like a closed surface (F >= 4 triangles over F / 2 + 2 vertices) gets
+  /// its own subtree too, beside the mesh's other triangles, so that self-collision culling can
+  /// certify it whole (core/self_culling.h).
   BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf = 1,
-              const std::vector<std::size_t>& mesh_offsets = {});
+              const std::vector<std::size_t>& mesh_offsets = {}, const std::vector<Triangle>* faces = nullptr);
 
   std::size_t size() const { return nodes_.size(); }
   bool leaf(std::uint32_t i) const { return nodes_[i].end == i + 1; }

@@ -51,7 +51,7 @@ template <BoundingVolume BV>
 BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
                                    const SceneOptions& options, const Positions& initial) {
   const unsigned leaf = options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 16u);
-  return BvhTopology(triangle_bounds(faces, initial), options.bvh, leaf, face_offsets);
+  return BvhTopology(triangle_bounds(faces, initial), options.bvh, leaf, face_offsets, &faces);
 }
 
 template <BoundingVolume BV>

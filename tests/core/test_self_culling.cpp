@@ -520,6 +520,43 @@ TEST(SelfCulling, ASurfaceWoundTwiceAroundItsCentreIsNotCertified) {
   closed_step(m, x1);
 }
 
+TEST(SelfCulling, ClosedBodiesInOneMeshAreEachCertifiedWhole) {
+  // Six balls in one mesh, overlapping, turning and closing in on each other over four steps:
+  // each is certified whole every step (each has its own subtree: core/bvh.h, tested in
+  // test_bvh.cpp), while the contacts between them equal brute force's.
+  const int n = 6;
+  TriMesh all;
+  std::vector<Positions> frames(5);
+  const TriMesh ball = make_sphere_mesh(6, 12, 0.5);
+  const auto nv = static_cast<std::uint32_t>(ball.vertices.rows());
+  all.vertices = Positions(n * nv);
+  for (auto& f : frames) f = Positions(n * nv);
+  for (int b = 0; b < n; ++b) {
+    for (const Triangle& t : ball.faces) all.faces.push_back({t[0] + b * nv, t[1] + b * nv, t[2] + b * nv});
+    for (int f = 0; f < 5; ++f) {
+      const double a = 0.3 * f + b, gap = 0.62 - 0.02 * f;
+      const Vec3 c(gap * b, 0.45 * (b % 2), 0.3 * (b % 3));
+      for (std::uint32_t v = 0; v < nv; ++v) {
+        const Vec3 p = ball.vertices.point(v);
+        const Vec3 q(std::cos(a) * p.x() - std::sin(a) * p.y(), std::sin(a) * p.x() + std::cos(a) * p.y(), p.z());
+        frames[f].set_point(b * nv + v, c + q);
+      }
+    }
+  }
+  all.vertices = frames[0];
+  Scene fbd({all}), phc({all}), brute({all});
+  std::uint64_t contacts = 0;
+  for (int f = 1; f < 5; ++f) {
+    const StepResult r = fbd.advance({PositionsView(frames[f])});
+    const StepResult p = brute.step({PositionsView(frames[f - 1])}, {PositionsView(frames[f])}, Method::BruteForce);
+    ASSERT_EQ(r.contacts, p.contacts) << "step " << f;
+    ASSERT_EQ(phc.advance({PositionsView(frames[f])}, Method::Phc).contacts, p.contacts) << "step " << f;
+    EXPECT_GE(r.stats.culled_patches, std::uint64_t(n)) << "step " << f;
+    contacts += p.contacts.size();
+  }
+  EXPECT_GT(contacts, 0u);
+}
+
 TEST(SelfCulling, NotUsedWithAMinimumDistance) {
   const AnimatedScene a = make_scene("spheres", 2, 3);
   SceneOptions o;
