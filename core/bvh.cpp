@@ -161,11 +161,11 @@ class Builder {
     return (m == lo || m == hi) ? split_count(lo, hi, axis) : m;  // all on one side: by count
   }
 
-  /// Binned surface area heuristic over the triangles' boxes: for each axis, 16 bins of the
+  /// Binned surface area heuristic over the triangles' boxes: for each axis, 32 bins of the
   /// centroid bounds (filled in one pass over the triangles for all three axes); the split
   /// minimising area(left) * n(left) + area(right) * n(right).
   std::size_t split_sah(std::size_t lo, std::size_t hi) {
-    constexpr int kBins = 16;
+    constexpr int kBins = 32;  // 16: 1-1.5% more volume tests and leaf pairs on cloth-ball
     Vec3 mn, mx;
     centroid_bounds(lo, hi, mn, mx);
     std::array<std::array<Box, kBins>, 3> bins;
