@@ -37,7 +37,7 @@
 ///  1. every triangle (a, b, c) keeps one strict orientation seen from c(t) over the whole step
 ///     (det(b - a, c - a, c(t) - a), a cubic in t: its four Bernstein coefficients share a sign
 ///     with certainty under a rounding bound), all triangles the same, and
-///  2. at the start, a ray from c(0) (towards the centroid of the first triangle) enters
+///  2. at the start, a ray from c(0) (towards a point inside the first triangle) enters
 ///     exactly one triangle's cone (each test's sign certain under its bound).
 /// Then c(t) lies on no triangle, the central projection onto the unit sphere around c(t) is a
 /// branched covering whose degree is constant over the step and, by 2, of magnitude 1 at the

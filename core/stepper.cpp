@@ -183,7 +183,6 @@ void Stepper<BV>::refit() {
   result_.stats.t_refit = seconds_since(t);
 }
 
-
 template <BoundingVolume BV>
 typename Stepper<BV>::NodeVolume Stepper<BV>::leaf_volume(std::uint32_t node) const {
   NodeVolume v = NodeVolume::empty();
