@@ -20,6 +20,17 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// `points` random points in [-1, 1]^3 and where they move in the step: test `n` of a series
+/// moves mostly a little, every 5th far, every 7th not at all.
+void random_motion(std::mt19937_64& rng, int n, int points, Vec3* p0, Vec3* p1) {
+  std::uniform_real_distribution<double> coord(-1, 1), move(-0.6, 0.6);
+  for (int k = 0; k < points; ++k) {
+    p0[k] = Vec3(coord(rng), coord(rng), coord(rng));
+    const double scale = n % 7 == 0 ? 0.0 : n % 5 == 0 ? 3.0 : 0.3;
+    p1[k] = p0[k] + scale * Vec3(move(rng), move(rng), move(rng));
+  }
+}
+
 struct Built {
   SceneFaces faces;
   SceneTopology scene;
@@ -243,16 +254,10 @@ TEST(SelfCulling, NormalSignsEqualTheAxisByAxisFormulaAndHoldAtSampledTimes) {
     return bits;
   };
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> coord(-1, 1), move(-0.6, 0.6);
   int signed_axes = 0;
   for (int n = 0; n < 20000; ++n) {
     Vec3 p0[3], p1[3];
-    for (int k = 0; k < 3; ++k) {
-      p0[k] = Vec3(coord(rng), coord(rng), coord(rng));
-      // mostly small motions, some large, some corners still or degenerate
-      const double scale = n % 7 == 0 ? 0.0 : n % 5 == 0 ? 3.0 : 0.3;
-      p1[k] = p0[k] + scale * Vec3(move(rng), move(rng), move(rng));
-    }
+    random_motion(rng, n, 3, p0, p1);
     if (n % 11 == 0) p0[2] = p0[0] + 0.5 * (p0[1] - p0[0]);  // collinear at the start
     const unsigned bits = SelfCulling::normal_signs(p0[0], p0[1], p0[2], p1[0], p1[1], p1[2]);
     ASSERT_EQ(bits, reference(p0[0], p0[1], p0[2], p1[0], p1[1], p1[2])) << n;
@@ -380,15 +385,10 @@ TEST(SelfCulling, StarSignsHoldAtSampledTimesAndFailWhereTheOrientationTurns) {
     return u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
   };
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> coord(-1, 1), move(-0.6, 0.6);
   int certain = 0, uncertain = 0;
   for (int n = 0; n < 20000; ++n) {
     Vec3 q0[4], q1[4];
-    for (int k = 0; k < 4; ++k) {
-      q0[k] = Vec3(coord(rng), coord(rng), coord(rng));
-      const double scale = n % 7 == 0 ? 0.0 : n % 5 == 0 ? 3.0 : 0.3;
-      q1[k] = q0[k] + scale * Vec3(move(rng), move(rng), move(rng));
-    }
+    random_motion(rng, n, 4, q0, q1);
     const int s = SelfCulling::star_sign(q0[0], q0[1], q0[2], q0[3], q1[0], q1[1], q1[2], q1[3]);
     (s ? certain : uncertain) += 1;
     if (!s) continue;
@@ -411,8 +411,8 @@ TEST(SelfCulling, StarSignsHoldAtSampledTimesAndFailWhereTheOrientationTurns) {
 }
 
 namespace {
-/// One closed mesh moving from `x0` to `x1`: the contacts with culling (every method) equal
-/// brute force's; returns the patches certified by fbd.
+/// One closed mesh moving from its vertices to `x1`: the contacts with culling (every method)
+/// equal brute force's; returns the patches certified by fbd.
 std::uint64_t closed_step(const TriMesh& m, const Positions& x1) {
   SceneOptions o;
   o.leaf_size = 4;
@@ -496,16 +496,12 @@ TEST(SelfCulling, ASurfaceWoundTwiceAroundItsCentreIsNotCertified) {
   // every triangle keeps one orientation seen from the moving mean of the vertices
   Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero();
   for (std::size_t v = 0; v < m.vertices.rows(); ++v) c0 += m.vertices.point(v) / (n + 2), c1 += x1.point(v) / (n + 2);
-  for (const Triangle& t : m.faces)
-    ASSERT_EQ(SelfCulling::star_sign(m.vertices.point(t[0]), m.vertices.point(t[1]), m.vertices.point(t[2]), c0,
-                                     x1.point(t[0]), x1.point(t[1]), x1.point(t[2]), c1),
-              SelfCulling::star_sign(m.vertices.point(m.faces[0][0]), m.vertices.point(m.faces[0][1]),
-                                     m.vertices.point(m.faces[0][2]), c0, x1.point(m.faces[0][0]),
-                                     x1.point(m.faces[0][1]), x1.point(m.faces[0][2]), c1));
-  EXPECT_NE(SelfCulling::star_sign(m.vertices.point(m.faces[0][0]), m.vertices.point(m.faces[0][1]),
-                                   m.vertices.point(m.faces[0][2]), c0, x1.point(m.faces[0][0]),
-                                   x1.point(m.faces[0][1]), x1.point(m.faces[0][2]), c1),
-            0);
+  auto sign = [&](const Triangle& t) {
+    return SelfCulling::star_sign(m.vertices.point(t[0]), m.vertices.point(t[1]), m.vertices.point(t[2]), c0,
+                                  x1.point(t[0]), x1.point(t[1]), x1.point(t[2]), c1);
+  };
+  for (const Triangle& t : m.faces) ASSERT_EQ(sign(t), sign(m.faces[0]));
+  EXPECT_NE(sign(m.faces[0]), 0);
   Built b({m}, 1);
   EXPECT_EQ(SelfCulling(b.bvh, b.scene).num_closed(), 1u);
   Scene brute({m});
