@@ -59,6 +59,33 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       for (int k = 0; k < 3; ++k) face_corner_slots_[s][k] = l.vertex_slot[face_corners_[s][k]];
     }
   });
+  // The apart masks of each leaf's own features (LeafOwnership::apart_edges, apart_faces).
+  apart_edges_.resize(edges_.size());
+  apart_faces_.resize(vertices_.size());
+  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i != e; ++i) {
+      const auto node = static_cast<std::uint32_t>(i);
+      if (!bvh.leaf(node)) continue;
+      for (std::uint32_t x = edge_begin_[i]; x != edge_begin_[i + 1]; ++x) {
+        std::uint64_t apart = 0;
+        const Edge& ex = edge_ends_[x];
+        for (std::uint32_t y = x + 1; y != edge_begin_[i + 1]; ++y) {
+          const Edge& ey = edge_ends_[y];
+          const bool shared = ex[0] == ey[0] || ex[0] == ey[1] || ex[1] == ey[0] || ex[1] == ey[1];
+          if (!shared) apart |= std::uint64_t(1) << (y - edge_begin_[i]);
+        }
+        apart_edges_[x] = apart;
+      }
+      for (std::uint32_t x = vertex_begin_[i]; x != vertex_begin_[i + 1]; ++x) {
+        std::uint32_t apart = 0;
+        for (std::uint32_t k = 0; k < bvh.leaf_count(node); ++k) {
+          const Triangle& t = face_corners_[bvh.leaf_first(node) + k];
+          if (t[0] != vertices_[x] && t[1] != vertices_[x] && t[2] != vertices_[x]) apart |= 1u << k;
+        }
+        apart_faces_[x] = apart;
+      }
+    }
+  });
   // Each leaf's corners that it does not own, once each: counted, then written, in parallel
   // blocks of nodes (two passes: a scratch array would cost more in fresh pages than the
   // second pass does).

@@ -50,6 +50,12 @@ class LeafOwnership {
   /// vertex slots.
   const Triangle& face_corners(std::uint32_t slot) const { return face_corners_[slot]; }
   const Triangle& face_corner_slots(std::uint32_t slot) const { return face_corner_slots_[slot]; }
+  /// A leaf's own pairs that are not adjacent, as masks over the leaf (fixed by connectivity):
+  /// for the edge in slot `slot`, bit j set when the edge in slot edge_begin(leaf) + j comes
+  /// later in the same leaf and shares no end with it; for the vertex in slot `slot`, bit k
+  /// set when face k of its leaf (slot leaf_first + k) does not have it as a corner.
+  std::uint64_t apart_edges(std::uint32_t slot) const { return apart_edges_[slot]; }
+  std::uint32_t apart_faces(std::uint32_t slot) const { return apart_faces_[slot]; }
 
   /// Storage in leaf order: vertices and edges by owner (isolated vertices last), faces in the
   /// BVH's triangle order.
@@ -62,6 +68,8 @@ class LeafOwnership {
   // Copies in leaf order of what leaf pairs read, so that they read it together.
   LargeVector<Edge> edge_ends_;                               ///< per edge slot
   LargeVector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot
+  LargeVector<std::uint64_t> apart_edges_;                  ///< per edge slot
+  LargeVector<std::uint32_t> apart_faces_;                  ///< per vertex slot
   VolumeLayout layout_;
 };
 
@@ -73,6 +81,7 @@ class OwnedPairs {
   /// A leaf owns at most 3 vertices and 3 edges per triangle.
   static constexpr unsigned kMaxOwned = 3 * BvhTopology::kMaxLeaf;
   static_assert(kMaxOwned <= 64, "a leaf's owned features as the bits of one 64-bit mask");
+  static_assert(BvhTopology::kMaxLeaf <= 32, "a leaf's faces as the bits of one 32-bit mask");
 
   /// `nodes`: the quarter volumes of the BVH nodes; `unchanged`: leaves that repeat the
   /// previous step (nullptr: none).
@@ -149,39 +158,38 @@ class OwnedPairs {
     out.stats.feature_box_tests += tested;
   }
 
-  /// process_self() past its skips.
+  /// process_self() past its skips. Only the pairs that are not adjacent (fixed per leaf:
+  /// LeafOwnership's apart masks) are tested.
   void find_self(std::uint32_t leaf, WorkerOutput& out) const {
-    vertices_against(leaf, leaf, nodes_[leaf], 0xF, out);
+    vertices_against<true>(leaf, leaf, nodes_[leaf], 0xF, out);
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t end = owners_.edge_begin(leaf + 1);
     const std::uint32_t begin = owners_.edge_begin(leaf);
     unsigned box[kMaxOwned];
     std::uint64_t tested = 0;
     for (std::uint32_t sa = begin; sa != end; ++sa) {
-      // As in process(): the box slabs of every pair without a branch, then the rest; edges
-      // that share an end (their box slabs always meet) are told apart among those that pass.
-      const Edge& x = owners_.edge_ends(sa);
+      // As in process(): the box slabs of every pair, then the rest of those that pass.
       const Quarters& qx = swept.edge_quarters_at(sa);
+      const std::uint64_t apart = owners_.apart_edges(sa);
+      tested += static_cast<unsigned>(std::popcount(apart));
       std::uint64_t meet = 0;
-      tested += end - sa - 1;
-      for (std::uint32_t sb = sa + 1; sb != end; ++sb) {
-        box[sb - begin] = qx.box_mask(swept.edge_quarters_at(sb), 0xFu);
-        meet |= std::uint64_t(box[sb - begin] != 0) << (sb - begin);
+      for (std::uint64_t r = apart; r; r &= r - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(r));
+        box[j] = qx.box_mask(swept.edge_quarters_at(begin + j), 0xFu);
+        meet |= std::uint64_t(box[j] != 0) << j;
       }
       for (; meet; meet &= meet - 1) {
-        const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
-        if (shares_end(x, owners_.edge_ends(sb))) {
-          --tested;
-          continue;
-        }
-        const unsigned m = qx.rest_mask(swept.edge_quarters_at(sb), box[sb - begin]);
-        if (m) tests_.test_ee_pieces(owners_.edge(sa), owners_.edge(sb), m, out);
+        const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
+        const unsigned m = qx.rest_mask(swept.edge_quarters_at(begin + j), box[j]);
+        if (m) tests_.test_ee_pieces(owners_.edge(sa), owners_.edge(begin + j), m, out);
       }
     }
     out.stats.feature_box_tests += tested;
   }
 
-  /// The vertices leaf `p` owns against the faces of leaf `q` (quarters `qq`).
+  /// The vertices leaf `p` owns against the faces of leaf `q` (quarters `qq`); `Self` (p == q):
+  /// only the faces that do not have the vertex as a corner.
+  template <bool Self = false>
   void vertices_against(std::uint32_t p, std::uint32_t q, const Quarters& qq, unsigned within,
                         WorkerOutput& out) const {
     const SweptVolumes<BV>& swept = tests_.swept();
@@ -203,13 +211,22 @@ class OwnedPairs {
       // and not counted as a test)
       const BV& vertex_volume = swept.vertex_at(s);
       unsigned meet = 0;
-      for (std::uint32_t k = 0; k < nf; ++k)
-        meet |= unsigned(vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
-      out.stats.feature_box_tests += nf;
+      if constexpr (Self) {
+        const unsigned apart = owners_.apart_faces(s);
+        for (unsigned r = apart; r; r &= r - 1) {
+          const unsigned k = static_cast<unsigned>(std::countr_zero(r));
+          meet |= unsigned(vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
+        }
+        out.stats.feature_box_tests += static_cast<unsigned>(std::popcount(apart));
+      } else {
+        for (std::uint32_t k = 0; k < nf; ++k)
+          meet |= unsigned(vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
+        out.stats.feature_box_tests += nf;
+      }
       for (; meet; meet &= meet - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = owners_.face_corners(face_slot + k);
-        if (int(t[0] == v) | int(t[1] == v) | int(t[2] == v)) {
+        if (!Self && (int(t[0] == v) | int(t[1] == v) | int(t[2] == v))) {
           --out.stats.feature_box_tests;
           continue;
         }
