@@ -57,3 +57,52 @@ TEST(LeafOwnership, OwnedAndForeignCornersCoverEachLeafOnce) {
   check_ownership(make_grid_mesh(9), BvhBuild::Median, 1);
   check_ownership(make_sphere_mesh(8, 12), BvhBuild::Sah, 5);
 }
+
+namespace {
+// Each leaf's apart masks name exactly its own non-adjacent pairs: an edge against the later
+// edges of the leaf that share no end with it, a vertex against the leaf's faces that do not
+// have it as a corner (checked against the ids, pair by pair).
+void check_apart_masks(const TriMesh& m, unsigned leaf_size) {
+  MeshTopology topo(m.num_vertices(), m.faces);
+  BvhTopology bvh(triangle_bounds(m.faces, m.vertices), BvhBuild::Sah, leaf_size);
+  LeafOwnership owners(bvh, topo);
+  std::size_t apart_pairs = 0, adjacent_pairs = 0;
+  for (std::uint32_t n = 0; n < bvh.size(); ++n) {
+    if (!bvh.leaf(n)) continue;
+    const std::uint32_t eb = owners.edge_begin(n), ee = owners.edge_begin(n + 1);
+    for (std::uint32_t x = eb; x != ee; ++x) {
+      const Edge& a = topo.edges()[owners.edge(x)];
+      for (std::uint32_t y = eb; y != ee; ++y) {
+        const Edge& b = topo.edges()[owners.edge(y)];
+        const bool shared = a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
+        const bool bit = owners.apart_edges(x) >> (y - eb) & 1u;
+        EXPECT_EQ(bit, y > x && !shared) << "leaf " << n << " edges " << owners.edge(x) << ", " << owners.edge(y);
+        (shared ? adjacent_pairs : apart_pairs) += y > x;
+      }
+      EXPECT_EQ(owners.apart_edges(x) >> (ee - eb), 0u) << "leaf " << n << ": bits past its edges";
+    }
+    for (std::uint32_t s = owners.vertex_begin(n); s != owners.vertex_begin(n + 1); ++s) {
+      const std::uint32_t v = owners.vertex(s);
+      for (std::uint32_t k = 0; k < bvh.leaf_count(n); ++k) {
+        const Triangle& t = topo.faces()[bvh.leaf_triangles(n)[k]];
+        const bool corner = t[0] == v || t[1] == v || t[2] == v;
+        EXPECT_EQ(bool(owners.apart_faces(s) >> k & 1u), !corner) << "leaf " << n << " vertex " << v << " face " << k;
+      }
+      EXPECT_EQ(owners.apart_faces(s) >> bvh.leaf_count(n), 0u) << "leaf " << n << ": bits past its faces";
+    }
+  }
+  // Both kinds occur in leaves of several triangles, so the masks are not trivially all set or
+  // all clear; a one-triangle leaf's edges all share ends.
+  if (leaf_size > 1)
+    EXPECT_GT(apart_pairs, 0u);
+  else
+    EXPECT_EQ(apart_pairs, 0u);
+  EXPECT_GT(adjacent_pairs, 0u);
+}
+}  // namespace
+
+TEST(LeafOwnership, ApartMasksNameEachLeafsNonAdjacentPairs) {
+  check_apart_masks(make_grid_mesh(12), 16);
+  check_apart_masks(make_sphere_mesh(8, 12), 7);
+  check_apart_masks(make_grid_mesh(7), 1);
+}
