@@ -69,18 +69,14 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
       for (std::uint32_t x = edge_begin_[i]; x != edge_begin_[i + 1]; ++x) {
         std::uint64_t apart = 0;
         const Edge& ex = edge_ends_[x];
-        for (std::uint32_t y = x + 1; y != edge_begin_[i + 1]; ++y) {
-          const Edge& ey = edge_ends_[y];
-          const bool shared = ex[0] == ey[0] || ex[0] == ey[1] || ex[1] == ey[0] || ex[1] == ey[1];
-          if (!shared) apart |= std::uint64_t(1) << (y - edge_begin_[i]);
-        }
+        for (std::uint32_t y = x + 1; y != edge_begin_[i + 1]; ++y)
+          if (!shares_end(ex, edge_ends_[y])) apart |= std::uint64_t(1) << (y - edge_begin_[i]);
         apart_edges_[x] = apart;
       }
       for (std::uint32_t x = vertex_begin_[i]; x != vertex_begin_[i + 1]; ++x) {
         std::uint32_t apart = 0;
         for (std::uint32_t k = 0; k < bvh.leaf_count(node); ++k) {
-          const Triangle& t = face_corners_[bvh.leaf_first(node) + k];
-          if (t[0] != vertices_[x] && t[1] != vertices_[x] && t[2] != vertices_[x]) apart |= 1u << k;
+          if (!has_corner(face_corners_[bvh.leaf_first(node) + k], vertices_[x])) apart |= 1u << k;
         }
         apart_faces_[x] = apart;
       }

@@ -24,6 +24,13 @@
 
 namespace mccd::detail {
 
+/// Whether two edges share an end, and whether a vertex is a corner of a triangle (no branch:
+/// every comparison).
+inline bool shares_end(const Edge& x, const Edge& y) {
+  return int(x[0] == y[0]) | int(x[0] == y[1]) | int(x[1] == y[0]) | int(x[1] == y[1]);
+}
+inline bool has_corner(const Triangle& t, std::uint32_t v) { return int(t[0] == v) | int(t[1] == v) | int(t[2] == v); }
+
 /// Which vertices and edges each BVH leaf owns (computed once from connectivity).
 class LeafOwnership {
  public:
@@ -226,7 +233,7 @@ class OwnedPairs {
       for (; meet; meet &= meet - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = owners_.face_corners(face_slot + k);
-        if (!Self && (int(t[0] == v) | int(t[1] == v) | int(t[2] == v))) {
+        if (!Self && has_corner(t, v)) {
           --out.stats.feature_box_tests;
           continue;
         }
@@ -239,11 +246,6 @@ class OwnedPairs {
         tests_.test_vf_quarters(v, swept.vertex_quarters_at(s), t, faces[k], face_quarters[k], out, m);
       }
     }
-  }
-
-  /// Whether two edges share an end (no branch: all four comparisons).
-  static bool shares_end(const Edge& x, const Edge& y) {
-    return int(x[0] == y[0]) | int(x[0] == y[1]) | int(x[1] == y[0]) | int(x[1] == y[1]);
   }
 
   /// For the vertex (edges: `edges`) slots [begin, end) of one leaf against quarters `qq`: the
