@@ -1,5 +1,6 @@
 #include <mccd/core/bvh.h>
 
+#include <mccd/geometry/disjoint_sets.h>
 #include <mccd/geometry/large_allocator.h>
 
 #include <algorithm>
@@ -254,20 +255,13 @@ void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, c
                   std::vector<std::uint32_t>& unit_mesh) {
   std::uint32_t nv = 0;
   for (const Triangle& t : faces) nv = std::max({nv, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::uint32_t> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const Triangle& t : faces)
-    for (int k = 1; k < 3; ++k) parent[root(t[k])] = root(t[0]);
+  const std::vector<std::uint32_t> root = detail::vertex_components(nv, faces);  // each vertex's component
   std::vector<std::uint32_t> tris(nv, 0), verts(nv, 0);
-  for (const Triangle& t : faces) ++tris[root(t[0])];
+  for (const Triangle& t : faces) ++tris[root[t[0]]];
   std::vector<std::uint8_t> seen(nv, 0);
   for (const Triangle& t : faces)
     for (std::uint32_t v : t)
-      if (!seen[v]) seen[v] = 1, ++verts[root(v)];
+      if (!seen[v]) seen[v] = 1, ++verts[root[v]];
   auto closed = [&](std::uint32_t r) { return tris[r] >= 4 && tris[r] % 2 == 0 && verts[r] == tris[r] / 2 + 2; };
   const std::size_t meshes = mesh_offsets.size() > 1 ? mesh_offsets.size() - 1 : 1;
   order.clear();
@@ -281,7 +275,7 @@ void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, c
     std::vector<std::vector<std::uint32_t>> units;
     std::vector<std::uint32_t> rest;
     for (std::size_t f = lo; f < hi; ++f) {
-      const std::uint32_t r = root(faces[f][0]);
+      const std::uint32_t r = root[faces[f][0]];
       if (!closed(r)) {
         rest.push_back(static_cast<std::uint32_t>(f));
         continue;

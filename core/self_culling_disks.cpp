@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
+#include <mccd/geometry/disjoint_sets.h>
 #include <mccd/parallel/volume_update.h>
 
 #include <oneapi/tbb/parallel_invoke.h>
@@ -119,17 +119,11 @@ std::vector<std::uint32_t> one_cycle(const std::vector<DirectedEdge>& edges) {
 
 /// Each face's connected component of its mesh (faces joined across shared edges).
 std::vector<std::uint32_t> face_components(const MeshTopology& topo) {
-  std::vector<std::uint32_t> parent(topo.num_faces());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(topo.num_faces());
   for (std::size_t e = 0; e < topo.num_edges(); ++e)
     for (const std::uint32_t* f = topo.edge_faces_begin(e) + 1; f < topo.edge_faces_end(e); ++f)
-      parent[root(*f)] = root(topo.edge_faces_begin(e)[0]);
-  for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = root(f);
-  return parent;
+      sets.unite(*f, topo.edge_faces_begin(e)[0]);
+  return std::move(sets).roots();
 }
 
 /// What the disk test needs of a node's triangles, all in one component of their mesh and

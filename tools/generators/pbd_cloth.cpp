@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 
+#include <mccd/geometry/disjoint_sets.h>
 #include <mccd/geometry/error.h>
 
 namespace mccd::gen {
@@ -21,11 +22,6 @@ void for_each_index(std::size_t n, F&& f) {
   });
 }
 
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t a) {
-  while (parent[a] != a) a = parent[a] = parent[parent[a]];
-  return a;
-}
-
 }  // namespace
 
 PbdCloth::PbdCloth(const TriMesh& mesh, const Options& options) : opt_(options) {
@@ -37,11 +33,7 @@ PbdCloth::PbdCloth(const TriMesh& mesh, const Options& options) : opt_(options) 
   delta_.assign(n, Vec3::Zero());
   key_.assign(n, 0);
   w_.assign(n, 1.0);
-  piece_.resize(n);
-  std::iota(piece_.begin(), piece_.end(), 0u);
-  for (const Triangle& f : mesh.faces)
-    for (int k = 1; k < 3; ++k) piece_[find_root(piece_, f[k])] = find_root(piece_, f[0]);
-  for (std::uint32_t i = 0; i < n; ++i) piece_[i] = find_root(piece_, i);
+  piece_ = detail::vertex_components(n, mesh.faces);
   build_constraints(mesh);
 }
 
