@@ -86,11 +86,17 @@ class FeatureTests {
   /// Edges a and b (sharing no vertex) whose quarter volumes overlap in the quarters `pieces`
   /// (non-zero; the caller tested them and counted the test): the narrow phase.
   void test_ee_pieces(std::uint32_t a, std::uint32_t b, unsigned pieces, WorkerOutput& out) const {
+    test_ee_pieces(a, topo_.edges()[a], b, topo_.edges()[b], pieces, out);
+  }
+  /// The same with the edges' ends at hand (a leaf pair keeps them in leaf order).
+  void test_ee_pieces(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned pieces,
+                      WorkerOutput& out) const {
     if (query_.stopped()) return;
-    if (a > b) std::swap(a, b);  // reported as (lower id, higher id)
-    const Edge& ea = topo_.edges()[a];
-    const Edge& eb = topo_.edges()[b];
-    narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
+    // reported as (lower id, higher id)
+    if (a < b)
+      narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
+    else
+      narrow({eb[0], eb[1], ea[0], ea[1]}, b, a, ContactKind::EdgeEdge, pieces, out);
   }
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.
