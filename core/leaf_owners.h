@@ -137,8 +137,8 @@ class OwnedPairs {
     const SweptVolumes<BV>& swept = tests_.swept();
     // Each edge of A against every edge of B without a branch per pair (they mispredict
     // often): the quarters where the two may meet, as bits; then the pairs that may meet.
-    // Pairs that share an end always meet in the box slabs (both volumes hold the end's):
-    // they are masked out among those that pass, and not counted as tests.
+    // Pairs that share an end always meet in the box slabs (both volumes hold the end's), so
+    // they are told apart only among those that pass, and not counted as tests.
     unsigned pieces[kMaxOwned];
     std::uint64_t tested = 0;
     for (unsigned i = 0; i < ea.n; ++i) {
@@ -148,13 +148,16 @@ class OwnedPairs {
       std::uint64_t meet = 0;
       for (unsigned j = 0; j < eb.n; ++j) {
         const unsigned m = mi & eb.mask[j];
+        tested += m != 0;
         pieces[j] = qx.box_mask(swept.edge_quarters_at(eb.slot[j]), m);
-        const unsigned pass = pieces[j] != 0, adjacent = shares_end(x, eb.ends[j]);
-        tested += unsigned(m != 0) - (pass & adjacent);
-        meet |= std::uint64_t(pass & ~adjacent) << j;
+        meet |= std::uint64_t(pieces[j] != 0) << j;
       }
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
+        if (shares_end(x, eb.ends[j])) {
+          --tested;
+          continue;
+        }
         const unsigned m = qx.rest_mask(swept.edge_quarters_at(eb.slot[j]), pieces[j]);
         if (m) tests_.test_ee_pieces(ea.id[i], x, eb.id[j], eb.ends[j], m, out);
       }
@@ -212,8 +215,9 @@ class OwnedPairs {
       const unsigned m = swept.vertex_quarters_at(s).rest_mask(qq, box[j]);
       if (!m) continue;
       const std::uint32_t v = owners_.vertex(s);
-      // The faces whose whole-step volumes meet the vertex's, as bits (no branch per face),
-      // but for those with v as a corner (not counted as tests).
+      // The faces whose whole-step volumes meet the vertex's, as bits (no branch per face).
+      // (a face with v as a corner always meets v's volume: told apart among those that do,
+      // and not counted as a test)
       const BV& vertex_volume = swept.vertex_at(s);
       unsigned meet = 0;
       if constexpr (Self) {
@@ -224,18 +228,17 @@ class OwnedPairs {
         }
         out.stats.feature_box_tests += static_cast<unsigned>(std::popcount(apart));
       } else {
-        unsigned corners = 0;  // faces with v as a corner (they always meet v's volume)
-        for (std::uint32_t k = 0; k < nf; ++k) {
-          const unsigned pass = vertex_volume.overlaps(swept.face_at(face_slot + k));
-          const unsigned corner = has_corner(owners_.face_corners(face_slot + k), v);
-          corners += pass & corner;
-          meet |= (pass & ~corner) << k;
-        }
-        out.stats.feature_box_tests += nf - corners;
+        for (std::uint32_t k = 0; k < nf; ++k)
+          meet |= unsigned(vertex_volume.overlaps(swept.face_at(face_slot + k))) << k;
+        out.stats.feature_box_tests += nf;
       }
       for (; meet; meet &= meet - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = owners_.face_corners(face_slot + k);
+        if (!Self && has_corner(t, v)) {
+          --out.stats.feature_box_tests;
+          continue;
+        }
         if (!(merged >> k & 1u)) {
           const Triangle& c = owners_.face_corner_slots(face_slot + k);
           face_quarters[k] = Quarters::merged(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
