@@ -12,7 +12,6 @@
 #include <array>
 #include <bit>
 #include <cstdint>
-#include <utility>
 
 #include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
