@@ -81,20 +81,26 @@ class Bvtt {
     push_children(n, next);
   }
 
-  /// Depth-first traversal of everything on out.stack.
+  /// Depth-first traversal of everything on out.stack (its leaf pairs processed by the time
+  /// it returns).
   template <bool record>
   void traverse(WorkerOutput& out) const {
     auto& st = out.stack;
     while (!st.empty()) {
       if (query_.stopped()) {
         st.clear();
-        return;
+        break;
       }
       const NodePair n = st.back();
       st.pop_back();
       visit<record>(n, out, st);
     }
+    finish(out);
   }
+
+  /// Processes what the leaf pairs visit() found left queued in `out` (Leaf::finish). Every
+  /// entry point but visit() calls it before returning.
+  void finish(WorkerOutput& out) const { leaf_.finish(out); }
 
   /// Children of an inner pair node: split the non-leaf, or the larger, of the two.
   void push_children(const NodePair& n, std::vector<NodePair>& st) const {
@@ -112,8 +118,12 @@ class Bvtt {
   /// overlapping leaf pair is processed and stays; an overlapping inner node is replaced by the
   /// stops of its subtree (sprouting; no pruning).
   void track(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
+    std::uint32_t touched = 0;
     for (const NodePair* it = begin; it != end; ++it) {
       const NodePair n = *it;
+      // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
+      if (kAhead && it + kAhead < end && bvh_.leaf(it[kAhead].a) && bvh_.leaf(it[kAhead].b))
+        touched += leaf_.touch(it[kAhead].a, it[kAhead].b);
       if (culled(n, out)) {
         out.front.push_back(n);
         continue;
@@ -141,6 +151,8 @@ class Bvtt {
         out.stats.sprouted += out.front.size() - before;
       }
     }
+    asm volatile("" ::"r"(touched));
+    finish(out);
   }
 
   /// The same tests as track(), for a query: the front is read, not changed (nothing is
@@ -164,9 +176,11 @@ class Bvtt {
         traverse<false>(out);
       }
     }
+    finish(out);
   }
 
  private:
+  static constexpr int kAhead = 4;  // front nodes ahead whose leaf pair is touched
   /// Whether front node n is covered by a patch certified this step (counted).
   bool culled(const NodePair& n, WorkerOutput& out) const {
     if (!culling_ || !(n.a == n.b ? culling_->covered(n.a) : culling_->covers(n.a, n.b))) return false;

@@ -9,14 +9,19 @@
 ///     at run time), in two parts: its filter, which names the quarters where the pair may
 ///     still touch (the default: the coplanarity filter, geometry/ccd_filter.h), and, when a
 ///     simulator query does not say otherwise (core/query.h), its test.
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstdlib>
+#include <type_traits>
+#include <vector>
 
 #include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_filter.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/swept_volumes.h>
 
 namespace mccd::detail {
@@ -96,6 +101,76 @@ class FeatureTests {
       narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
     else
       narrow({eb[0], eb[1], ea[0], ea[1]}, b, a, ContactKind::EdgeEdge, pieces, out);
+  }
+
+  /// Feature pairs past their volume tests wait in out.queued, and run_queued() sends them to
+  /// the narrow phase together, in order: most are pairs that the coplanarity filter rejects
+  /// at once, and that decision is made for several pairs at a time in vector registers first
+  /// (LaneKernels::coplanar_rejects: the filter's own values), the others going through the
+  /// narrow phase one by one.
+  static constexpr std::size_t kQueue = 256;
+
+  /// Queues vertex v (quarters `vq`) against face f (corners t, quarters `fq`) when their
+  /// quarter volumes overlap; found at leaves (leaf_a, leaf_b).
+  void queue_vf(std::uint32_t v, const Quarters& vq, const Triangle& t, std::uint32_t f, const Quarters& fq,
+                std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
+    if (const unsigned pieces = vq.overlap_mask(fq))
+      out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(pieces)});
+  }
+  /// Queues edges a and b (sharing no vertex, ends ea and eb) whose quarter volumes overlap in
+  /// `pieces` (non-zero).
+  void queue_ee(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned pieces,
+                std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
+    if (a < b)
+      out.queued.push_back({{ea[0], ea[1], eb[0], eb[1]}, a, b, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(pieces)});
+    else
+      out.queued.push_back({{eb[0], eb[1], ea[0], ea[1]}, b, a, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(pieces)});
+  }
+
+  /// The narrow phase of every queued pair, in order (until the query stops); found(leaf_a,
+  /// leaf_b) for each pair that adds a contact.
+  template <class Found>
+  void run_queued(WorkerOutput& out, const Found& found) const {
+    std::vector<QueuedPair>& q = out.queued;
+    bool prefilter = false;
+    if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>) prefilter = !(narrow_.options.min_distance > 0);
+    constexpr std::size_t kWindow = 2 * kQueue;
+    std::uint8_t reject[kWindow];
+    for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
+      const std::size_t n = std::min(kWindow, q.size() - first);
+      const QueuedPair* w = q.data() + first;
+      std::fill(reject, reject + n, std::uint8_t(0));
+      if (prefilter) {
+        // each kind's pairs together, their ids gathered in order
+        std::uint32_t ids[kWindow][4];
+        std::uint16_t where[kWindow];
+        std::uint8_t r[kWindow];
+        for (std::uint8_t kind : {std::uint8_t(0), std::uint8_t(1)}) {
+          std::size_t m = 0;
+          for (std::size_t i = 0; i < n; ++i)
+            if (w[i].kind == kind) {
+              std::copy(w[i].ids, w[i].ids + 4, ids[m]);
+              where[m++] = static_cast<std::uint16_t>(i);
+            }
+          if (!m) continue;
+          lane_kernels().coplanar_rejects(kind == 0, x0_.data(), x1_.data(), ids, m, r);
+          for (std::size_t j = 0; j < m; ++j) reject[where[j]] = r[j];
+        }
+      }
+      for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
+        const QueuedPair& p = w[i];
+        const bool vf = p.kind == 0;
+        if (reject[i]) {
+          ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
+          continue;
+        }
+        const std::size_t before = out.contacts.size();
+        narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
+               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, p.pieces, out);
+        if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+      }
+    }
+    q.clear();
   }
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.

@@ -10,7 +10,9 @@
 #include <vector>
 
 #include <mccd/core/canonical_pairs.h>
+#include <mccd/core/leaf_lanes.h>
 #include <mccd/core/leaf_owners.h>
+#include <mccd/core/owned_pairs.h>
 #include <mccd/core/orphans.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/self_culling.h>
@@ -24,18 +26,20 @@ class LeafPairs {
 
   using Quarters = QuarterVolume<BV>;
 
-  /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes), `tests` and `unchanged`
+  /// `bvh`, `owners`, `nodes` (the BVH nodes' quarter volumes), `lanes` (the leaves' lane
+  /// blocks, leaf rule), `tests` and `unchanged`
   /// (leaves that repeat the previous step, leaf rule; nullptr: none) and `culling` (the step's
   /// self-collision certificates; nullptr: none) are owned by the caller and outlive this
   /// object.
   LeafPairs(const SceneTopology& scene, const BvhTopology& bvh, const LeafOwnership& owners,
-            const LargeVector<Quarters>& nodes, const Tests& tests, const UnchangedLeaves* unchanged = nullptr,
+            const LargeVector<Quarters>& nodes, const LeafLanes<BV>& lanes, const Tests& tests,
+            const UnchangedLeaves* unchanged = nullptr,
             const SelfCulling* culling = nullptr)
       : scene_(scene),
         tests_(tests),
         culling_(culling),
         owned_rule_(scene.representatives() == Representatives::Leaf),
-        owned_(bvh, owners, nodes, tests, unchanged),
+        owned_(bvh, owners, nodes, lanes, tests, unchanged),
         canonical_(bvh, scene.carriers(), nodes, tests) {
     const MeshTopology& topo = scene.topology();
     for (std::uint32_t i = 0; i < bvh.size(); ++i) {
@@ -67,6 +71,16 @@ class LeafPairs {
       canonical_.process(a, b, within, out);
   }
 
+  /// Processes what process() left queued in `out` (the leaf rule's narrow phase runs queued
+  /// pairs together: core/owned_pairs.h).
+  void finish(WorkerOutput& out) const {
+    if (owned_rule_) owned_.finish(out);
+  }
+
+  /// Reads what the leaf pair (a, b) reads first, ahead of it (OwnedPairs::touch); returns
+  /// a value to keep the loads.
+  std::uint32_t touch(std::uint32_t a, std::uint32_t b) const { return owned_rule_ ? owned_.touch(a, b) : 0; }
+
   /// The units of the self stage (the pairs that no BVTT pair node holds), each independent:
   /// leaf rule, one per leaf of a mesh with self-collision; canonical rule, one.
   std::size_t num_self_units() const { return owned_rule_ ? self_leaves_.size() : 1; }
@@ -80,6 +94,7 @@ class LeafPairs {
         else
           owned_.process_self(self_leaves_[i], out);
       }
+      owned_.finish(out);
       return;
     }
     if (begin == end) return;

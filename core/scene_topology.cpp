@@ -55,8 +55,6 @@ SceneTopology::SceneTopology(const SceneFaces& faces, std::vector<MeshOptions> o
   for (std::size_t m = 0; m < options_.size(); ++m)
     if (!options_[m].is_static) {
       add(moving_.vertices, vertex_offsets_[m], vertex_offsets_[m + 1]);
-      add(moving_.faces, face_offsets_[m], face_offsets_[m + 1]);
-      add(moving_.edges, edge_offsets_[m], edge_offsets_[m + 1]);
     }
   if (rule_ != Representatives::Canonical) return;
   carriers_ = Carriers(topo_);

@@ -55,10 +55,10 @@ class SceneTopology {
   }
 
   const std::vector<std::size_t>& face_offsets() const { return face_offsets_; }
-  /// Index ranges [begin, end) of the vertices, faces and edges of the meshes that move
-  /// (not static), neighbouring meshes merged: what a step updates.
+  /// Index ranges [begin, end) of the vertices of the meshes that move (not static),
+  /// neighbouring meshes merged: what a step updates.
   struct Ranges {
-    std::vector<std::pair<std::size_t, std::size_t>> vertices, faces, edges;
+    std::vector<std::pair<std::size_t, std::size_t>> vertices;
   };
   const Ranges& moving() const { return moving_; }
 

@@ -68,11 +68,12 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
                   }),
       nodes_(bvh_.size()),
       owners_(bvh_, scene.topology()),
+      lanes_(scene.representatives() == Representatives::Leaf ? LeafLanes<BV>(bvh_, owners_) : LeafLanes<BV>()),
       tests_(scene.topology(), swept_, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
       culling_(options.self_culling && options.min_distance == 0 && scene.representatives() == Representatives::Leaf
                    ? SelfCulling(bvh_, scene)
                    : SelfCulling()),
-      leaf_(scene, bvh_, owners_, nodes_, tests_, &unchanged_, &culling_),
+      leaf_(scene, bvh_, owners_, nodes_, lanes_, tests_, &unchanged_, &culling_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_, &culling_) {
   const MeshTopology& topo = scene.topology();
   // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
@@ -88,6 +89,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
   };
   swept_.first_touch(touch_chunks);
   first_touch(nodes_, touch_chunks);
+  lanes_.first_touch(touch_chunks);
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   bool any_static = false;
@@ -100,8 +102,8 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       fixed[n] = bvh_.leaf(n) && m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
     }
     unchanged_.set_static(std::move(fixed));
-    const IndexRanges all_v{{0, topo.num_vertices()}}, all_f{{0, topo.num_faces()}}, all_e{{0, topo.num_edges()}};
-    update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v, all_f, all_e);
+    const IndexRanges all_v{{0, topo.num_vertices()}};
+    update_swept_volumes(swept_, topo, x0_, x1_, options_.min_distance, all_v);
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(n); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
@@ -152,10 +154,35 @@ void Stepper<BV>::update() {
   if (full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf)
     dynamic_for(scene_.topology().num_vertices(), 4096,
                [&](std::size_t b, std::size_t e) { unchanged_.compare(x0_, x1_, b, e); });
-  update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance, moving.vertices, moving.faces,
-                       moving.edges, unchanged_.active() ? unchanged_.same() : nullptr);
+  update_swept_volumes(swept_, scene_.topology(), x0_, x1_, options_.min_distance, moving.vertices,
+                       unchanged_.active() ? unchanged_.same() : nullptr);
   for (const auto& [b, e] : moving.vertices) result_.stats.updated_vertices += e - b;
+  if (!lanes_.empty()) {
+    // Every vertex's coarse volume on a grid that holds the step (the leaves' lanes are filled
+    // from them when a leaf pair or the self stage first needs them).
+    double lo[3], hi[3];
+    positions_box(lo, hi);
+    if (lo[0] <= hi[0]) lanes_.begin(grid_.fit(lo, hi));
+    dynamic_for(scene_.topology().num_vertices(), 8192,
+                [&](std::size_t b, std::size_t e) { lanes_.quantize_vertices(b, e, swept_); });
+  }
   result_.stats.t_update = seconds_since(t);
+}
+
+template <BoundingVolume BV>
+void Stepper<BV>::positions_box(double lo[3], double hi[3]) const {
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::numeric_limits<double>::infinity();
+    hi[k] = -std::numeric_limits<double>::infinity();
+  }
+  for (const Positions* x : {&x0_, &x1_}) {
+    const double* p = x->data();
+    for (std::size_t i = 0, n = x->rows(); i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[3 * i + k]);
+        hi[k] = std::max(hi[k], p[3 * i + k]);
+      }
+  }
 }
 
 template <BoundingVolume BV>

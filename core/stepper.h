@@ -71,6 +71,8 @@ class Stepper {
   void refit();
   /// A leaf's quarter volumes: the merge of its corners' (owned, then the others'), each once.
   NodeVolume leaf_volume(std::uint32_t node) const;
+  /// The box of the step's start and end positions (lo > hi without vertices).
+  void positions_box(double lo[3], double hi[3]) const;
   void search();
   void self_pairs();
   void join();
@@ -85,6 +87,8 @@ class Stepper {
   LargeVector<NodeVolume> nodes_;  ///< per BVH node: its quarter volumes
   LeafOwnership owners_;   ///< the leaf rule's owners; also the volumes' storage layout
   SweptVolumes<BV> swept_;
+  LeafLanes<BV> lanes_;    ///< leaf rule: the leaves' coarse volumes in lanes, filled as used
+  GridKeeper<BV::kSlabs> grid_;  ///< their grid
   QueryState query_;
   Tests tests_;
   UnchangedLeaves unchanged_;  ///< leaves that repeat the previous full step (leaf rule)

@@ -35,15 +35,27 @@ struct RawContact {
 };
 static_assert(sizeof(RawContact) == 32);
 
+/// A feature pair past its volume tests, queued for the narrow phase (core/feature_tests.h,
+/// which runs queued pairs together): its points and ids as reported, the quarters where its
+/// volumes meet, and the leaves where it was found (a leaf pair, or one leaf twice).
+struct QueuedPair {
+  std::uint32_t ids[4];
+  std::uint32_t a, b;
+  std::uint32_t leaf_a, leaf_b;
+  std::uint8_t kind, pieces;  ///< kind: 0 vertex-face, 1 edge-edge
+};
+
 struct WorkerOutput {
   std::vector<NodePair> front;       ///< the front nodes this unit keeps or sprouts
   std::vector<RawContact> contacts;  ///< found by this unit, not yet handed to the buffer
   std::vector<NodePair> stack;       ///< traversal stack (kept to reuse the allocation)
+  std::vector<QueuedPair> queued;    ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts
   void clear() {
     front.clear();
     contacts.clear();
     stack.clear();
+    queued.clear();
     stats = {};
   }
 };

@@ -105,9 +105,21 @@ struct alignas(32) QuarterDop {
       }
 #endif
   }
+  /// Becomes the merge of `a` and `b`.
+  void merge_of(const QuarterDop& a, const QuarterDop& b) {
+#if defined(__SSE2__)
+    for (int s = 0; s < Slabs; ++s) {
+      _mm_store_ps(lo(s), _mm_min_ps(_mm_load_ps(b.lo(s)), _mm_load_ps(a.lo(s))));
+      _mm_store_ps(hi(s), _mm_max_ps(_mm_load_ps(b.hi(s)), _mm_load_ps(a.hi(s))));
+    }
+#else
+    *this = a;
+    merge(b);
+#endif
+  }
   static QuarterDop merged(const QuarterDop& a, const QuarterDop& b) {
-    QuarterDop d = a;
-    d.merge(b);
+    QuarterDop d;
+    d.merge_of(a, b);
     return d;
   }
 

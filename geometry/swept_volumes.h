@@ -18,8 +18,9 @@
 /// overlap, and every method reaches the pair. Whole-step tests and masks of quarters from
 /// larger volumes (`within`) are implied by the quarter test, so they only save work.
 ///
-/// Stored: per vertex its whole-step volume and its quarters, per edge its quarters, per face
-/// its whole-step volume (what the BVH refits from). A face's quarters are merged when needed.
+/// Stored: per vertex its whole-step volume and its quarters. An edge's and a face's volumes
+/// are merged from their vertices' when needed (stored, an edge's quarters took more memory
+/// than all the rest, and the leaf pairs ask for few of them).
 /// Storage is in a layout of slots chosen by the caller (VolumeLayout: the BVH's leaf order,
 /// so that the features a leaf pair reads lie together in memory); accessors take ids, or
 /// slots where the caller already knows them.
@@ -86,8 +87,6 @@ class SweptVolumes {
     });
     vertex_.resize(topo.num_vertices());
     vertex_quarters_.resize(topo.num_vertices());
-    edge_quarters_.resize(topo.num_edges());
-    face_.resize(topo.num_faces());
   }
 
   /// Zeroes the storage after resize() (which leaves it untouched) through `for_chunks`, a
@@ -96,74 +95,35 @@ class SweptVolumes {
   void first_touch(const ForChunks& for_chunks) {
     detail::first_touch(vertex_, for_chunks);
     detail::first_touch(vertex_quarters_, for_chunks);
-    detail::first_touch(edge_quarters_, for_chunks);
-    detail::first_touch(face_, for_chunks);
   }
 
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
   /// inflated by `min_distance`. Each range writes only its own vertices. `kept` (per vertex
   /// id; nullptr: none): vertices whose volumes already hold these positions' (the previous
-  /// step's, same positions), left as they are; likewise faces and edges all of whose vertices
-  /// are kept.
+  /// step's, same positions), left as they are.
   void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end,
                        const std::uint8_t* kept = nullptr) {
     for (std::size_t v = begin; v != end; ++v)
       if (!kept || !kept[v]) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
   }
 
-  /// Faces [begin, end): the merge of their corners' volumes (after update_vertices).
-  void update_faces(const MeshTopology& topo, std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
-    for (std::size_t f = begin; f != end; ++f) {
-      const Triangle& t = topo.faces()[f];
-      if (kept && kept[t[0]] && kept[t[1]] && kept[t[2]]) continue;
-      BV d = BV::merged(vertex(t[0]), vertex(t[1]));
-      d.merge(vertex(t[2]));
-      face_[layout_.face_slot[f]] = d;
-    }
-  }
-
-  /// Edges [begin, end): the merge of their two vertices' quarters (after update_vertices).
-  void update_edges(const MeshTopology& topo, std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
-    for (std::size_t e = begin; e != end; ++e) {
-      const Edge& ed = topo.edges()[e];
-      if (kept && kept[ed[0]] && kept[ed[1]]) continue;
-      edge_quarters_[layout_.edge_slot[e]] = Quarters::merged(vertex_quarters(ed[0]), vertex_quarters(ed[1]));
-    }
-  }
-
-  /// The same three by slot ranges [begin, end) of the storage, for a step where every vertex
+  /// The same by slot ranges [begin, end) of the storage, for a step where every vertex
   /// moves: the volumes are then written in storage order (sequentially, not scattered by
-  /// the layout), and an edge or face reads its vertices' volumes near its own (the leaf
-  /// layout keeps a leaf's features together). The same values as the updates by id.
+  /// the layout). The same values as the updates by id.
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
                            std::size_t end, const std::uint8_t* kept = nullptr) {
     for (std::size_t s = begin; s != end; ++s)
       if (!kept || !kept[vertex_of_slot_[s]]) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
   }
-  void update_face_slots(std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
-    for (std::size_t s = begin; s != end; ++s) {
-      const Triangle& c = face_corner_slots_[s];
-      if (kept && kept[vertex_of_slot_[c[0]]] && kept[vertex_of_slot_[c[1]]] && kept[vertex_of_slot_[c[2]]]) continue;
-      BV d = BV::merged(vertex_[c[0]], vertex_[c[1]]);
-      d.merge(vertex_[c[2]]);
-      face_[s] = d;
-    }
-  }
-  void update_edge_slots(std::size_t begin, std::size_t end, const std::uint8_t* kept = nullptr) {
-    for (std::size_t s = begin; s != end; ++s) {
-      const Edge& c = edge_end_slots_[s];
-      if (kept && kept[vertex_of_slot_[c[0]]] && kept[vertex_of_slot_[c[1]]]) continue;
-      edge_quarters_[s] = Quarters::merged(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
-    }
-  }
-
   const BV& vertex(std::uint32_t v) const { return vertex_[layout_.vertex_slot[v]]; }
-  const BV& face(std::uint32_t f) const { return face_[layout_.face_slot[f]]; }
+  /// A face's whole-step volume (merged on demand from its corners').
+  BV face(std::uint32_t f) const { return face_at(layout_.face_slot[f]); }
   /// An edge's whole-step volume (merged on demand).
   BV edge(const Edge& e) const { return BV::merged(vertex(e[0]), vertex(e[1])); }
 
   const Quarters& vertex_quarters(std::uint32_t v) const { return vertex_quarters_[layout_.vertex_slot[v]]; }
-  const Quarters& edge_quarters(std::uint32_t e) const { return edge_quarters_[layout_.edge_slot[e]]; }
+  /// An edge's quarters (merged on demand from its ends').
+  Quarters edge_quarters(std::uint32_t e) const { return edge_quarters_at(layout_.edge_slot[e]); }
   /// A face's quarters (merged on demand from its corners').
   Quarters face_quarters(const Triangle& t) const {
     Quarters q = Quarters::merged(vertex_quarters(t[0]), vertex_quarters(t[1]));
@@ -173,9 +133,32 @@ class SweptVolumes {
 
   /// The same by slot (VolumeLayout).
   const BV& vertex_at(std::uint32_t slot) const { return vertex_[slot]; }
-  const BV& face_at(std::uint32_t slot) const { return face_[slot]; }
+  BV face_at(std::uint32_t slot) const {
+    const Triangle& c = face_corner_slots_[slot];
+    BV d = BV::merged(vertex_[c[0]], vertex_[c[1]]);
+    d.merge(vertex_[c[2]]);
+    return d;
+  }
   const Quarters& vertex_quarters_at(std::uint32_t slot) const { return vertex_quarters_[slot]; }
-  const Quarters& edge_quarters_at(std::uint32_t slot) const { return edge_quarters_[slot]; }
+  Quarters edge_quarters_at(std::uint32_t slot) const {
+    const Edge& c = edge_end_slots_[slot];
+    return Quarters::merged(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
+  }
+  /// The same into `q`.
+  void edge_quarters_into(std::uint32_t slot, Quarters& q) const {
+    const Edge& c = edge_end_slots_[slot];
+    q.merge_of(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
+  }
+  /// The vertex slots of the corners of the face in face slot `slot`.
+  const Triangle& face_corner_slots_at(std::uint32_t slot) const { return face_corner_slots_[slot]; }
+  /// A face's quarters by face slot, into `q`.
+  void face_quarters_into(std::uint32_t slot, Quarters& q) const {
+    const Triangle& c = face_corner_slots_[slot];
+    q.merge_of(vertex_quarters_[c[0]], vertex_quarters_[c[1]]);
+    q.merge(vertex_quarters_[c[2]]);
+  }
+  /// The vertex slots of the ends of the edge in `slot`.
+  const Edge& edge_end_slots_at(std::uint32_t slot) const { return edge_end_slots_[slot]; }
 
  private:
   /// Vertex v's volumes into slot `slot`: its swept segment between the interleaved positions
@@ -242,8 +225,6 @@ class SweptVolumes {
   // by slot:
   LargeVector<BV> vertex_;                  ///< per vertex: the merge of its quarters
   LargeVector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
-  LargeVector<Quarters> edge_quarters_;     ///< per edge: merge of its two vertices' quarters
-  LargeVector<BV> face_;                    ///< per face: merge of its three vertex volumes
 };
 
 }  // namespace mccd::detail

@@ -52,6 +52,7 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
     for (const NodePair& n : tasks) bvtt.template visit<record>(n, outs[0], next);
     tasks.swap(next);
   }
+  bvtt.finish(outs[0]);
   flush(outs[0], contacts);
   outs.resize(1 + tasks.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {

@@ -1,9 +1,8 @@
 #pragma once
-/// @file Internal: the swept volumes of a step (geometry/swept_volumes.h), vertices first, then
-/// faces and edges, each a parallel loop over chunks dealt out as threads free up (fixed work
-/// per item, but on a busy virtual machine the host stalls one thread now and then: a static
-/// partition made the stage wait for it; dealt out, cloth-ball's update on 2 threads went from
-/// 71-89 to 60-72 ms over 10 sub-steps); ranges below one grain run serially, without a task.
+/// @file Internal: the swept volumes of a step (geometry/swept_volumes.h): the vertices', a
+/// parallel loop over chunks dealt out as threads free up (fixed work per item, but on a busy
+/// virtual machine the host stalls one thread now and then: a static partition made the stage
+/// wait for it); ranges below one grain run serially, without a task.
 /// static_for (a static partition) serves the one-off loops of the set-up.
 #include <cstddef>
 #include <utility>
@@ -45,21 +44,19 @@ void dynamic_for(std::size_t n, std::size_t grain, const Body& body) {
 
 using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
 
-/// The volumes of the given vertex, face and edge ranges (the moving meshes'; a static mesh's
-/// volumes are computed once). `kept`: see SweptVolumes::update_vertices.
+/// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
+/// computed once; edges' and faces' are merged from their vertices' when needed). `kept`: see
+/// SweptVolumes::update_vertices.
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
-                          const IndexRanges& faces, const IndexRanges& edges, const std::uint8_t* kept = nullptr) {
+                          const std::uint8_t* kept = nullptr) {
   constexpr std::size_t kGrain = 2048;
-  auto all = [](const IndexRanges& r, std::size_t n) { return r.size() == 1 && r[0].first == 0 && r[0].second == n; };
-  if (all(vertices, topo.num_vertices()) && all(faces, topo.num_faces()) && all(edges, topo.num_edges())) {
+  if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
     // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
     dynamic_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
       swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
     });
-    dynamic_for(topo.num_faces(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_face_slots(b, e, kept); });
-    dynamic_for(topo.num_edges(), kGrain, [&](std::size_t b, std::size_t e) { swept.update_edge_slots(b, e, kept); });
     return;
   }
   // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
@@ -68,14 +65,6 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
     static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
       swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
     });
-  }
-  for (const auto& range : faces) {
-    const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_faces(topo, b0 + b, b0 + e, kept); });
-  }
-  for (const auto& range : edges) {
-    const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) { swept.update_edges(topo, b0 + b, b0 + e, kept); });
   }
 }
 

@@ -13,6 +13,7 @@
 #include "toi_truth.h"
 #include <mccd/core/orphans.h>
 #include <mccd/core/scene.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/mesh_io.h>
 
@@ -142,8 +143,8 @@ int toi_check(const ToiOptions& a) {
   const StepStats& s = r.stats;
   const bool leaf_rule = resolved_representatives(scene.options()) == Representatives::Leaf;
   if (leaf_rule)
-    std::printf("  volume tests %llu, leaf pairs meeting in some quarter %llu, feature-pair volume tests %llu, removed by "
-                "the coplanarity filter: VF %llu, EE %llu\n",
+    std::printf("  volume tests %llu, leaf pairs meeting in some quarter %llu, feature-pair volume tests (pairs whose "
+                "coarse volumes meet) %llu, removed by the coplanarity filter: VF %llu, EE %llu\n",
                 (unsigned long long)s.volume_tests, (unsigned long long)s.leaf_pairs,
                 (unsigned long long)s.feature_box_tests, (unsigned long long)s.vf_filtered,
                 (unsigned long long)s.ee_filtered);
@@ -160,8 +161,8 @@ int toi_check(const ToiOptions& a) {
               (unsigned long long)s.vf_ccd.root_tests, (unsigned long long)s.ee_ccd.root_tests);
   if (leaf_rule)
     std::printf("  representatives: leaf (every vertex and edge tested from the BVH leaf of its first triangle, no "
-                "orphan set); earliest toi %.9g\n",
-                r.earliest_toi);
+                "orphan set); lane kernels %s; earliest toi %.9g\n",
+                detail::to_string(detail::lane_kernels().level), r.earliest_toi);
   else
     std::printf("  representatives: canonical; orphan set %zu VF + %zu EE pairs (%llu + %llu passed their box test); "
                 "earliest toi %.9g\n",

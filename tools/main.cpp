@@ -10,6 +10,7 @@
 #include <CLI/App.hpp>
 #include <CLI/Config.hpp>
 #include <CLI/Formatter.hpp>
+#include <mccd/geometry/lane_masks.h>
 
 #include "command.h"
 #include "interrupt.h"
@@ -59,7 +60,11 @@ std::string unexpected_message(const std::string& command, const std::string& ar
 
 int run_main(int argc, char** argv) {
   CLI::App app("mccd " MCCD_VERSION ": continuous collision detection for deforming triangle meshes", "mccd");
-  app.set_version_flag("--version", "mccd " MCCD_VERSION, "print the version and exit");
+  app.set_version_flag("--version",
+                       std::string("mccd " MCCD_VERSION " (lane kernels: ") +
+                           mccd::detail::to_string(mccd::detail::lane_kernels().level) +
+                           "; MCCD_SIMD=scalar|sse2|avx2|avx512 asks for a lower level)",
+                       "print the version and the vector instructions in use, and exit");
   app.require_subcommand(0, 1);
   app.allow_extras();
   app.get_formatter()->column_width(kNameColumn);

@@ -1,0 +1,276 @@
+#include <mccd/geometry/lane_masks.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include <mccd/geometry/error.h>
+
+#if defined(__x86_64__)
+#define MCCD_LANES_X86 1
+#include <immintrin.h>
+#endif
+
+namespace mccd::detail {
+
+// Each instruction set's kernels live in a namespace of their own (so no inline function is
+// shared between sets) and, past SSE2, in a region compiled for that set only: nothing from
+// these regions runs unless the processor has the set (lane_kernels_for()).
+
+namespace lanes_scalar {
+struct Ops {
+  static constexpr unsigned kLanes = 8;
+  static constexpr SimdLevel kLevel = SimdLevel::Scalar;
+  using Acc = std::uint32_t;  // the lanes overlapping
+  static Acc slab(const std::int16_t* lo, const std::int16_t* hi, std::int16_t olo, std::int16_t ohi) {
+    Acc acc = 0;
+    for (unsigned k = 0; k < kLanes; ++k) acc |= Acc(!(lo[k] > ohi || olo > hi[k])) << k;
+    return acc;
+  }
+  static Acc join(Acc a, Acc b) { return a & b; }
+  static std::uint32_t bits(Acc acc) { return acc; }
+};
+struct DOps {
+  static constexpr unsigned kLanes = 1;
+  using V = double;
+  static V load(const double* p) { return *p; }
+  static V zero() { return 0.0; }
+  static V set1(double x) { return x; }
+  static V add(V a, V b) { return a + b; }
+  static V sub(V a, V b) { return a - b; }
+  static V mul(V a, V b) { return a * b; }
+  static V div(V a, V b) { return a / b; }
+  static V max(V a, V b) { return a > b ? a : b; }
+  static V abs(V a) { return std::fabs(a); }
+  static V neg(V a) { return -a; }
+  static unsigned gt(V a, V b) { return a > b; }
+  static unsigned ge(V a, V b) { return a >= b; }
+};
+#include "lane_masks_kernels.inl"
+}  // namespace lanes_scalar
+
+#if MCCD_LANES_X86
+namespace lanes_sse2 {
+struct Ops {
+  static constexpr unsigned kLanes = 8;
+  static constexpr SimdLevel kLevel = SimdLevel::Sse2;
+  using Acc = __m128i;  // the lanes apart
+  static Acc slab(const std::int16_t* lo, const std::int16_t* hi, std::int16_t olo, std::int16_t ohi) {
+    const __m128i l = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lo));
+    const __m128i h = _mm_loadu_si128(reinterpret_cast<const __m128i*>(hi));
+    return _mm_or_si128(_mm_cmpgt_epi16(l, _mm_set1_epi16(ohi)), _mm_cmpgt_epi16(_mm_set1_epi16(olo), h));
+  }
+  static Acc join(Acc a, Acc b) { return _mm_or_si128(a, b); }
+  static std::uint32_t bits(Acc acc) {
+    return ~static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(acc, _mm_setzero_si128()))) & 0xFFu;
+  }
+};
+struct DOps {
+  static constexpr unsigned kLanes = 2;
+  using V = __m128d;
+  static V load(const double* p) { return _mm_load_pd(p); }
+  static V zero() { return _mm_setzero_pd(); }
+  static V set1(double x) { return _mm_set1_pd(x); }
+  static V add(V a, V b) { return _mm_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm_div_pd(a, b); }
+  static V max(V a, V b) { return _mm_max_pd(a, b); }
+  static V abs(V a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
+  static V neg(V a) { return _mm_xor_pd(_mm_set1_pd(-0.0), a); }
+  static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpgt_pd(a, b))); }
+  static unsigned ge(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(a, b))); }
+};
+#include "lane_masks_kernels.inl"
+}  // namespace lanes_sse2
+
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx,avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx,avx2")
+#endif
+namespace lanes_avx2 {
+struct Ops {
+  static constexpr unsigned kLanes = 16;
+  static constexpr SimdLevel kLevel = SimdLevel::Avx2;
+  using Acc = __m256i;  // the lanes apart
+  static Acc slab(const std::int16_t* lo, const std::int16_t* hi, std::int16_t olo, std::int16_t ohi) {
+    const __m256i l = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(lo));
+    const __m256i h = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hi));
+    return _mm256_or_si256(_mm256_cmpgt_epi16(l, _mm256_set1_epi16(ohi)),
+                           _mm256_cmpgt_epi16(_mm256_set1_epi16(olo), h));
+  }
+  static Acc join(Acc a, Acc b) { return _mm256_or_si256(a, b); }
+  static std::uint32_t bits(Acc acc) {
+    // packed with zeros, per 128-bit half: lanes 0-7 in bytes 0-7, lanes 8-15 in bytes 16-23
+    const std::uint32_t m =
+        static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_packs_epi16(acc, _mm256_setzero_si256())));
+    return ~((m & 0xFFu) | (m >> 8 & 0xFF00u)) & 0xFFFFu;
+  }
+};
+struct DOps {
+  static constexpr unsigned kLanes = 4;
+  using V = __m256d;
+  static V load(const double* p) { return _mm256_load_pd(p); }
+  static V zero() { return _mm256_setzero_pd(); }
+  static V set1(double x) { return _mm256_set1_pd(x); }
+  static V add(V a, V b) { return _mm256_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm256_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm256_div_pd(a, b); }
+  static V max(V a, V b) { return _mm256_max_pd(a, b); }
+  static V abs(V a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+  static V neg(V a) { return _mm256_xor_pd(_mm256_set1_pd(-0.0), a); }
+  static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GT_OQ))); }
+  static unsigned ge(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GE_OQ))); }
+};
+#include "lane_masks_kernels.inl"
+}  // namespace lanes_avx2
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx,avx2,avx512f,avx512bw"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx,avx2,avx512f,avx512bw")
+#endif
+namespace lanes_avx512 {
+struct Ops {
+  static constexpr unsigned kLanes = 32;
+  static constexpr SimdLevel kLevel = SimdLevel::Avx512;
+  using Acc = __mmask32;  // the lanes overlapping
+  static Acc slab(const std::int16_t* lo, const std::int16_t* hi, std::int16_t olo, std::int16_t ohi) {
+    const __mmask32 below = _mm512_cmp_epi16_mask(_mm512_loadu_si512(lo), _mm512_set1_epi16(ohi), _MM_CMPINT_LE);
+    return _mm512_mask_cmp_epi16_mask(below, _mm512_set1_epi16(olo), _mm512_loadu_si512(hi), _MM_CMPINT_LE);
+  }
+  static Acc join(Acc a, Acc b) { return _kand_mask32(a, b); }
+  static std::uint32_t bits(Acc acc) { return acc; }
+};
+struct DOps {
+  static constexpr unsigned kLanes = 8;
+  using V = __m512d;
+  static V load(const double* p) { return _mm512_load_pd(p); }
+  static V zero() { return _mm512_setzero_pd(); }
+  static V set1(double x) { return _mm512_set1_pd(x); }
+  static V add(V a, V b) { return _mm512_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm512_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm512_div_pd(a, b); }
+  static V max(V a, V b) { return _mm512_max_pd(a, b); }
+  static V abs(V a) { return bits_op<false>(a, 0x7fffffffffffffffLL); }
+  static V neg(V a) { return bits_op<true>(a, static_cast<long long>(0x8000000000000000ULL)); }
+  /// a's bits and (Xor: xor) `mask`'s (AVX-512F has no floating-point and / xor)
+  template <bool Xor>
+  static V bits_op(V a, long long mask) {
+    const __m512i x = _mm512_castpd_si512(a), m = _mm512_set1_epi64(mask);
+    return _mm512_castsi512_pd(Xor ? _mm512_xor_si512(x, m) : _mm512_and_si512(x, m));
+  }
+  static unsigned gt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
+  static unsigned ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+};
+#include "lane_masks_kernels.inl"
+}  // namespace lanes_avx512
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif  // MCCD_LANES_X86
+
+namespace {
+
+bool supported(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Scalar:
+      return true;
+#if MCCD_LANES_X86
+    case SimdLevel::Sse2:
+      return true;  // part of x86-64
+    case SimdLevel::Avx2:
+      return __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx2");
+    case SimdLevel::Avx512:
+      return __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
+             __builtin_cpu_supports("avx512bw");
+#endif
+    default:
+      return false;
+  }
+}
+
+const LaneKernels* table(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Scalar:
+      return &lanes_scalar::kernels;
+#if MCCD_LANES_X86
+    case SimdLevel::Sse2:
+      return &lanes_sse2::kernels;
+    case SimdLevel::Avx2:
+      return &lanes_avx2::kernels;
+    case SimdLevel::Avx512:
+      return &lanes_avx512::kernels;
+#endif
+    default:
+      return nullptr;
+  }
+}
+
+/// The best supported level, or the environment's MCCD_SIMD when it names a lower one.
+const LaneKernels* initial() {
+  SimdLevel level = best_simd_level();
+  if (const char* env = std::getenv("MCCD_SIMD"); env && *env)
+    if (const std::optional<SimdLevel> asked = parse_simd_level(env); asked && *asked < level) level = *asked;
+  return table(level);
+}
+
+std::atomic<const LaneKernels*>& current() {
+  static std::atomic<const LaneKernels*> kernels{initial()};
+  return kernels;
+}
+
+}  // namespace
+
+SimdLevel best_simd_level() {
+  for (SimdLevel l : {SimdLevel::Avx512, SimdLevel::Avx2, SimdLevel::Sse2})
+    if (table(l) && supported(l)) return l;
+  return SimdLevel::Scalar;
+}
+
+const LaneKernels* lane_kernels_for(SimdLevel level) { return supported(level) ? table(level) : nullptr; }
+
+const LaneKernels& lane_kernels() { return *current().load(std::memory_order_relaxed); }
+
+void select_simd_level(SimdLevel level) {
+  const LaneKernels* k = lane_kernels_for(level);
+  if (!k) throw Error(std::string("SIMD level ") + to_string(level) + ": not supported by this processor or build");
+  current().store(k, std::memory_order_relaxed);
+}
+
+const char* to_string(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Scalar:
+      return "scalar";
+    case SimdLevel::Sse2:
+      return "sse2";
+    case SimdLevel::Avx2:
+      return "avx2";
+    case SimdLevel::Avx512:
+      return "avx512";
+  }
+  return "?";
+}
+
+std::optional<SimdLevel> parse_simd_level(const std::string& name) {
+  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
+    if (name == to_string(l)) return l;
+  return std::nullopt;
+}
+
+}  // namespace mccd::detail

@@ -1,0 +1,72 @@
+#pragma once
+/// @file Internal: overlap tests of one coarse volume against many, the many stored as lanes
+/// (structure of arrays), in the widest vector registers this processor has.
+///
+/// Coarse volumes are k-DOPs with 16-bit integer bounds on a grid (geometry/coarse_volumes.h).
+/// A lane block holds those of up to 64 features side by side: row r is bound r of every
+/// feature's volume (rows 0..slabs-1 the lower bounds, then the upper bounds), `stride`
+/// values per row, a power of two from 8 to 64 and at least the number of lanes n, so one
+/// vector load reads the same bound of 8, 16 or 32 features. Testing a volume against the block is then,
+/// per bound, one broadcast and one comparison for a whole register of features.
+///
+/// Two volumes are apart along a slab when one's lower bound exceeds the other's upper bound
+/// (touching counts as overlapping). Lanes at or past n are 0 in every result; a block may be
+/// read up to kLaneSlack values past its last row.
+///
+/// The kernels are compiled for SSE2 (any x86-64), AVX2 and AVX-512 (BW) and chosen at run
+/// time from what the processor supports; `MCCD_SIMD=scalar|sse2|avx2|avx512` in the
+/// environment, or select_simd_level(), asks for a lower one. Other processors get a portable
+/// scalar version. Every version returns the same bits.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace mccd::detail {
+
+/// The instruction sets the kernels are compiled for, in increasing order.
+enum class SimdLevel { Scalar, Sse2, Avx2, Avx512 };
+
+/// Values a block may be read past its last row.
+inline constexpr unsigned kLaneSlack = 32;
+/// The most lanes one block holds (the bits of one mask).
+inline constexpr unsigned kMaxLanes = 64;
+
+/// One coarse k-DOP of at most 16 slabs on its own, for the kernels to test against blocks: its
+/// lower bounds lo[0..slabs), its upper bounds hi[0..slabs) (the rest unused).
+struct alignas(64) CoarseDop {
+  std::int16_t lo[16], hi[16];
+};
+
+struct LaneKernels {
+  /// For each of `count` coarse k-DOPs others[i]: out[i] bit j set when lane j of the block
+  /// `rows` (n <= 64 lanes, `stride` 8, 16, 32 or 64) overlaps it.
+  void (*dops)(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs, const CoarseDop* others,
+               unsigned count, std::uint64_t* out);
+  /// The coplanarity filter's first decision (geometry/ccd_filter.h) for `n` queries of one
+  /// kind without a minimum distance: points ids[i][0..3] (VF: the vertex, then the face's
+  /// corners; EE: one edge's ends, then the other's) at positions x0 and x1 (x, y, z
+  /// interleaved, by id). reject[i] = 1 when FilteredCcd::filter certainly returns 0: the
+  /// points' largest coordinate is in [2^-60, 2^60] and the coplanarity cubic's Bernstein
+  /// coefficients over the whole step all clear its error bound with one sign, both computed
+  /// with the filter's own operations in its own order (bit for bit its values); else 0 (the
+  /// filter decides).
+  void (*coplanar_rejects)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                           std::size_t n, std::uint8_t* reject);
+  SimdLevel level;
+};
+
+/// The kernels in use (the best level this processor supports, or the one asked for).
+const LaneKernels& lane_kernels();
+/// The best level this processor supports.
+SimdLevel best_simd_level();
+/// The kernels of `level`, if this build and processor have it (nullptr otherwise).
+const LaneKernels* lane_kernels_for(SimdLevel level);
+/// Uses `level` from now on (process-wide: tests and benchmarks compare the levels); throws
+/// mccd::Error when this processor or build lacks it.
+void select_simd_level(SimdLevel level);
+const char* to_string(SimdLevel level);
+/// "scalar", "sse2", "avx2", "avx512"; nullopt for anything else.
+std::optional<SimdLevel> parse_simd_level(const std::string& name);
+
+}  // namespace mccd::detail

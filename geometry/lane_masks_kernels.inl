@@ -1,0 +1,138 @@
+// The lane kernels of geometry/lane_masks.h over one instruction set, included by
+// geometry/lane_masks.cpp once per set, inside a namespace of its own that defines `Ops`:
+//   kLanes                        lanes per register (8, 16 or 32)
+//   kLevel                        the SimdLevel
+//   Acc                           the lanes apart (or the lanes overlapping) along some slabs
+//   Acc slab(lo, hi, olo, ohi)    along one slab: lane j is apart when lo[j] > ohi or olo > hi[j]
+//   Acc join(a, b)                along the slabs of both
+//   std::uint32_t bits(acc)       lane j's bit set when it overlaps along them
+// No headers here: geometry/lane_masks.cpp includes them before any instruction-set region.
+
+template <unsigned Slabs, unsigned Stride>
+void dops_of(const std::int16_t* rows, unsigned n, const CoarseDop* others, unsigned count, std::uint64_t* out) {
+  const std::uint64_t valid = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
+  for (unsigned i = 0; i < count; ++i) {
+    const CoarseDop& o = others[i];
+    std::uint64_t ov = 0;
+    for (unsigned c = 0; c < n; c += Ops::kLanes) {
+      const std::int16_t* r = rows + c;
+      // each slab on its own, then joined in a tree: no long chain of dependent operations
+      auto slab = [&](unsigned s) { return Ops::slab(r + s * Stride, r + (Slabs + s) * Stride, o.lo[s], o.hi[s]); };
+      typename Ops::Acc acc;
+      if constexpr (Slabs == 9) {
+        acc = Ops::join(Ops::join(Ops::join(slab(0), slab(1)), Ops::join(slab(2), slab(3))),
+                        Ops::join(Ops::join(slab(4), slab(5)), Ops::join(Ops::join(slab(6), slab(7)), slab(8))));
+      } else {
+        static_assert(Slabs == 3);
+        acc = Ops::join(Ops::join(slab(0), slab(1)), slab(2));
+      }
+      ov |= std::uint64_t(Ops::bits(acc)) << c;
+    }
+    out[i] = ov & valid;
+  }
+}
+
+template <unsigned Slabs>
+void dops_slabs(const std::int16_t* rows, unsigned stride, unsigned n, const CoarseDop* others, unsigned count,
+                std::uint64_t* out) {
+  switch (stride) {
+    case 8: return dops_of<Slabs, 8>(rows, n, others, count, out);
+    case 16: return dops_of<Slabs, 16>(rows, n, others, count, out);
+    case 32: return dops_of<Slabs, 32>(rows, n, others, count, out);
+    default: return dops_of<Slabs, 64>(rows, n, others, count, out);
+  }
+}
+
+void dops(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs, const CoarseDop* others,
+          unsigned count, std::uint64_t* out) {
+  if (slabs == 9)
+    dops_slabs<9>(rows, stride, n, others, count, out);
+  else
+    dops_slabs<3>(rows, stride, n, others, count, out);
+}
+
+// The coplanarity cubic of geometry/ccd_stages.h (both_times::coplanarity, cubic_of and
+// coplanarity_of), one query per lane of `D` (DOps: W doubles). Every operation is the scalar
+// code's, in its order: sums of products as (x + y) + z, differences as written, the cross
+// product's components as a.y * b.z - a.z * b.y and so on, the bound as
+// (96 u) * ((alpha * beta) * gamma) + 2^-800.
+template <bool VF>
+void coplanar_rejects_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4], std::size_t n,
+                         std::uint8_t* reject) {
+  using D = DOps;
+  using V = typename D::V;
+  constexpr unsigned W = D::kLanes;
+  struct P3 {
+    V x, y, z;
+  };
+  auto sub = [](const P3& a, const P3& b) { return P3{D::sub(a.x, b.x), D::sub(a.y, b.y), D::sub(a.z, b.z)}; };
+  auto add = [](const P3& a, const P3& b) { return P3{D::add(a.x, b.x), D::add(a.y, b.y), D::add(a.z, b.z)}; };
+  auto cross = [](const P3& a, const P3& b) {
+    return P3{D::sub(D::mul(a.y, b.z), D::mul(a.z, b.y)), D::sub(D::mul(a.z, b.x), D::mul(a.x, b.z)),
+              D::sub(D::mul(a.x, b.y), D::mul(a.y, b.x))};
+  };
+  auto dot = [](const P3& a, const P3& b) {
+    return D::add(D::add(D::mul(a.x, b.x), D::mul(a.y, b.y)), D::mul(a.z, b.z));
+  };
+  auto amax = [](const P3& a) { return D::max(D::max(D::abs(a.z), D::abs(a.y)), D::abs(a.x)); };
+  alignas(64) double buf[2][4][3][W];
+  for (std::size_t first = 0; first < n; first += W) {
+    const unsigned m = static_cast<unsigned>(n - first < W ? n - first : W);
+    for (unsigned i = 0; i < W; ++i) {
+      const std::uint32_t* q = ids[first + (i < m ? i : 0)];
+      for (unsigned k = 0; k < 4; ++k)
+        for (unsigned c = 0; c < 3; ++c) {
+          buf[0][k][c][i] = x0[3 * std::size_t(q[k]) + c];
+          buf[1][k][c][i] = x1[3 * std::size_t(q[k]) + c];
+        }
+    }
+    P3 p[2][4];
+    V mx = D::zero();
+    for (unsigned t = 0; t < 2; ++t)
+      for (unsigned k = 0; k < 4; ++k) {
+        p[t][k] = P3{D::load(buf[t][k][0]), D::load(buf[t][k][1]), D::load(buf[t][k][2])};
+        mx = D::max(mx, amax(p[t][k]));
+      }
+    P3 A[2], B[2], C[2];
+    for (unsigned t = 0; t < 2; ++t) {
+      A[t] = sub(p[t][1], p[t][0]);
+      if constexpr (VF) {
+        B[t] = sub(p[t][2], p[t][0]);
+        C[t] = sub(p[t][3], p[t][0]);
+      } else {
+        B[t] = sub(p[t][3], p[t][2]);
+        C[t] = sub(p[t][2], p[t][0]);
+      }
+    }
+    // VF: X = B x C, a = A; EE: X = A x B, a = C. Xts: the cross product of time t's first
+    // factor and time s's second.
+    const P3* U = VF ? B : A;
+    const P3* Vv = VF ? C : B;
+    const P3* a = VF ? A : C;
+    const P3 X00 = cross(U[0], Vv[0]), X11 = cross(U[1], Vv[1]), X01 = cross(U[0], Vv[1]), X10 = cross(U[1], Vv[0]);
+    const P3 Xs = add(X01, X10);
+    const V c0 = dot(a[0], X00), c3 = dot(a[1], X11);
+    const V three = D::set1(3.0);
+    const V c1 = D::div(D::add(dot(a[0], Xs), dot(a[1], X00)), three);
+    const V c2 = D::div(D::add(dot(a[1], Xs), dot(a[0], X11)), three);
+    const V alpha = D::max(amax(A[0]), amax(A[1])), beta = D::max(amax(B[0]), amax(B[1])),
+            gamma = D::max(amax(C[0]), amax(C[1]));
+    const V ef = D::add(D::mul(D::set1(96 * 0x1p-53), D::mul(D::mul(alpha, beta), gamma)), D::set1(0x1p-800));
+    const V nef = D::neg(ef);
+    const unsigned pos = D::gt(c0, ef) & D::gt(c1, ef) & D::gt(c2, ef) & D::gt(c3, ef);
+    const unsigned neg = D::gt(nef, c0) & D::gt(nef, c1) & D::gt(nef, c2) & D::gt(nef, c3);
+    const unsigned range = D::ge(mx, D::set1(0x1p-60)) & D::ge(D::set1(0x1p60), mx);
+    const unsigned out = (pos | neg) & range;
+    for (unsigned i = 0; i < m; ++i) reject[first + i] = static_cast<std::uint8_t>(out >> i & 1u);
+  }
+}
+
+void coplanar_rejects(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                      std::size_t n, std::uint8_t* reject) {
+  if (vertex_face)
+    coplanar_rejects_of<true>(x0, x1, ids, n, reject);
+  else
+    coplanar_rejects_of<false>(x0, x1, ids, n, reject);
+}
+
+const LaneKernels kernels{&dops, &coplanar_rejects, Ops::kLevel};

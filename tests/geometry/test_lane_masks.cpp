@@ -1,0 +1,318 @@
+// The lane kernels (geometry/lane_masks.h) at every instruction set this processor has, against
+// plain references; and the coarse volumes they test (geometry/coarse_volumes.h).
+#include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_detail.h>
+#include <mccd/geometry/ccd_filter.h>
+#include <mccd/geometry/coarse_volumes.h>
+#include <mccd/geometry/error.h>
+#include <mccd/geometry/kdop.h>
+#include <mccd/geometry/lane_masks.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <random>
+#include <vector>
+
+using namespace mccd;
+using namespace mccd::detail;
+
+namespace {
+
+std::vector<const LaneKernels*> available_levels() {
+  std::vector<const LaneKernels*> out;
+  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
+    if (const LaneKernels* k = lane_kernels_for(l)) out.push_back(k);
+  return out;
+}
+
+std::int16_t random_bound(std::mt19937_64& rng) {
+  // mostly a narrow range (so that volumes often overlap), sometimes the extremes
+  switch (rng() % 8) {
+    case 0: return std::numeric_limits<std::int16_t>::min();
+    case 1: return std::numeric_limits<std::int16_t>::max();
+    default: return static_cast<std::int16_t>(static_cast<int>(rng() % 200) - 100);
+  }
+}
+
+CoarseDop random_dop(std::mt19937_64& rng, unsigned slabs) {
+  CoarseDop d{};
+  for (unsigned s = 0; s < slabs; ++s) {
+    std::int16_t a = random_bound(rng), b = random_bound(rng);
+    if (rng() % 16 != 0 && a > b) std::swap(a, b);  // a few empty ones too
+    d.lo[s] = a;
+    d.hi[s] = b;
+  }
+  return d;
+}
+
+}  // namespace
+
+TEST(LaneMasks, EveryLevelMatchesThePlainTest) {
+  const auto levels = available_levels();
+  ASSERT_GE(levels.size(), 1u);
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 3000; ++trial) {
+    const unsigned slabs = trial % 2 ? 9 : 3;
+    const unsigned stride = 8u << (trial % 4);
+    const unsigned n = static_cast<unsigned>(rng() % (stride + 1));
+    // a block of n lanes, every other value garbage (never part of a result), and the slack
+    std::vector<std::int16_t> rows(2 * slabs * stride + kLaneSlack);
+    for (auto& v : rows) v = random_bound(rng);
+    std::vector<CoarseDop> lanes(n);
+    for (unsigned j = 0; j < n; ++j) {
+      lanes[j] = random_dop(rng, slabs);
+      for (unsigned s = 0; s < slabs; ++s) {
+        rows[s * stride + j] = lanes[j].lo[s];
+        rows[(slabs + s) * stride + j] = lanes[j].hi[s];
+      }
+    }
+    const unsigned count = 1 + static_cast<unsigned>(rng() % 5);
+    std::vector<CoarseDop> others(count);
+    for (auto& o : others) o = random_dop(rng, slabs);
+    std::vector<std::uint64_t> want(count, 0);
+    for (unsigned i = 0; i < count; ++i)
+      for (unsigned j = 0; j < n; ++j) {
+        bool apart = false;
+        for (unsigned s = 0; s < slabs; ++s)
+          apart = apart || lanes[j].lo[s] > others[i].hi[s] || others[i].lo[s] > lanes[j].hi[s];
+        want[i] |= std::uint64_t(!apart) << j;
+      }
+    for (const LaneKernels* k : levels) {
+      std::vector<std::uint64_t> got(count, ~std::uint64_t(0));
+      k->dops(rows.data(), stride, n, slabs, others.data(), count, got.data());
+      ASSERT_EQ(got, want) << to_string(k->level) << " slabs " << slabs << " stride " << stride << " n " << n;
+    }
+  }
+}
+
+TEST(LaneMasks, LevelsAreNamedAndSelectable) {
+  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
+    EXPECT_EQ(parse_simd_level(to_string(l)), l);
+  EXPECT_FALSE(parse_simd_level("avx1024"));
+  const SimdLevel best = best_simd_level();
+  ASSERT_NE(lane_kernels_for(best), nullptr);
+  EXPECT_NE(lane_kernels_for(SimdLevel::Scalar), nullptr);
+  const SimdLevel before = lane_kernels().level;
+  select_simd_level(SimdLevel::Scalar);
+  EXPECT_EQ(lane_kernels().level, SimdLevel::Scalar);
+  select_simd_level(before);
+  EXPECT_EQ(lane_kernels().level, before);
+  if (best != SimdLevel::Avx512) EXPECT_THROW(select_simd_level(SimdLevel::Avx512), Error);
+}
+
+TEST(CoarseVolumes, NeverSeparateWhatFloatVolumesDoNot) {
+  // Pairs of float 18-DOPs, on grids that hold them, that only partly hold them, and that are
+  // far too coarse or fine; whenever the float volumes overlap, the coarse ones do.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<float> U(-1, 1);
+  int overlapping = 0, separated = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const float scale = std::pow(10.0f, static_cast<float>(static_cast<int>(rng() % 9) - 4));
+    Kdop18 box;
+    for (int s = 0; s < 9; ++s) {
+      box.lo[s] = -scale * (trial % 3 == 0 ? 0.1f : 1.0f);
+      box.hi[s] = scale * (trial % 5 == 0 ? 1e-3f : 1.0f);
+    }
+    const CoarseGrid<9> grid = CoarseGrid<9>::over(box);
+    Kdop18 a, b;
+    // b against a along each slab: touching it exactly at either end or overlapping it (most
+    // trials), on some slabs just apart or anywhere
+    const int apart_slab = rng() % 3 == 0 ? static_cast<int>(rng() % 9) : -1;
+    for (int s = 0; s < 9; ++s) {
+      const float c = U(rng) * scale * 1.5f, w = std::abs(U(rng)) * scale * 0.05f;
+      a.lo[s] = c - w, a.hi[s] = c + w;
+      const float d = std::abs(U(rng)) * scale * 0.05f;
+      const unsigned how = s == apart_slab ? 3 + rng() % 2 : rng() % 3;
+      switch (how) {
+        case 0: b.lo[s] = a.hi[s], b.hi[s] = a.hi[s] + d; break;
+        case 1: b.lo[s] = a.lo[s] - d, b.hi[s] = a.lo[s]; break;
+        case 2: b.lo[s] = c - d, b.hi[s] = c + d; break;
+        case 3: b.lo[s] = std::nextafter(a.hi[s], 1e30f), b.hi[s] = b.lo[s] + d; break;
+        default: b.lo[s] = U(rng) * scale, b.hi[s] = b.lo[s] + d; break;
+      }
+    }
+    if (trial % 97 == 0) a.lo[trial % 9] = std::numeric_limits<float>::quiet_NaN();  // never separates
+    if (trial % 89 == 0) b.hi[trial % 9] = std::numeric_limits<float>::infinity();
+    std::int16_t ca[18], cb[18];
+    grid.quantize(a, ca);
+    grid.quantize(b, cb);
+    const bool coarse = coarse_overlap<9>(ca, cb);
+    if (a.overlaps(b)) {
+      ++overlapping;
+      ASSERT_TRUE(coarse) << "trial " << trial;
+    } else {
+      separated += !coarse;
+    }
+    // the scalar bounds are the vector ones
+    for (int s = 0; s < 9; ++s) {
+      ASSERT_EQ(ca[s], grid.lower(a.lo[s], s));
+      ASSERT_EQ(ca[9 + s], grid.upper(a.hi[s], s));
+    }
+  }
+  EXPECT_GT(overlapping, 1000);
+  EXPECT_GT(separated, 1000);  // they do separate, where the float ones are apart by more than a cell
+}
+
+TEST(CoarseVolumes, MergeIsTheCoarseVolumeOfTheMerge) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> U(-2, 2);
+  Kdop18 box;
+  for (int s = 0; s < 9; ++s) box.lo[s] = -1, box.hi[s] = 1;
+  const CoarseGrid<9> grid = CoarseGrid<9>::over(box);
+  for (int trial = 0; trial < 5000; ++trial) {
+    Kdop18 a, b;
+    for (int s = 0; s < 9; ++s) {
+      a.lo[s] = U(rng), a.hi[s] = a.lo[s] + std::abs(U(rng));
+      b.lo[s] = U(rng), b.hi[s] = b.lo[s] + std::abs(U(rng));
+    }
+    std::int16_t ca[18], cb[18], cm[18];
+    grid.quantize(a, ca);
+    grid.quantize(b, cb);
+    grid.quantize(Kdop18::merged(a, b), cm);
+    coarse_merge<9>(ca, cb);
+    ASSERT_TRUE(std::equal(ca, ca + 18, cm)) << trial;
+  }
+}
+
+namespace {
+
+/// What the coplanarity filter's first decision is, from the filter itself: the points'
+/// largest coordinate in range and the whole cubic of one sign beyond its bound.
+bool filter_rejects_at_once(CcdKind kind, const CcdPoints& p) {
+  double mx = 0;
+  for (const auto* side : {&p.start, &p.end})
+    for (const Vec3& v : *side) mx = std::max(mx, v.cwiseAbs().maxCoeff());
+  return mx >= 0x1p-60 && mx <= 0x1p60 && !ccd_coplanarity_may_hit(kind, p, 0.0);
+}
+
+}  // namespace
+
+TEST(LaneMasks, CoplanarRejectsAreTheFiltersOwn) {
+  const auto levels = available_levels();
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
+    // queries as position arrays indexed by vertex id: four fresh vertices each
+    const std::size_t n = 3000;
+    std::vector<double> x0(3 * 4 * n), x1(3 * 4 * n);
+    std::vector<std::array<std::uint32_t, 4>> ids(n);
+    for (std::size_t q = 0; q < n; ++q) {
+      const double scale = std::pow(2.0, static_cast<int>(rng() % 160) - 80);  // some beyond 2^+-60
+      const double motion = (q % 3 == 0) ? 0.0 : std::pow(10.0, -static_cast<int>(rng() % 6));
+      for (int k = 0; k < 4; ++k) {
+        ids[q][k] = static_cast<std::uint32_t>(4 * q + static_cast<std::size_t>(3 - k));  // any order
+        for (int c = 0; c < 3; ++c) {
+          const double v = U(rng);
+          const std::size_t i = 3 * ids[q][k] + c;
+          x0[i] = scale * v;
+          x1[i] = scale * (v + motion * U(rng));
+          if (q % 7 == 0 && c == 2) x0[i] = x1[i] = 0.0;  // all in one plane: never decided at once
+        }
+      }
+    }
+    std::vector<std::uint8_t> expected(n);
+    std::size_t rejected = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      CcdPoints p;
+      for (int k = 0; k < 4; ++k) {
+        p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
+        p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
+      }
+      expected[q] = filter_rejects_at_once(kind, p);
+      rejected += expected[q];
+      // and a rejection is a pair the filter removes
+      if (expected[q]) ASSERT_EQ(coplanar_quarters(kind, p, 0.0), 0u);
+    }
+    EXPECT_GT(rejected, n / 4);
+    EXPECT_LT(rejected, n);
+    const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
+    for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
+    for (const LaneKernels* k : levels) {
+      std::vector<std::uint8_t> got(n, 2);
+      k->coplanar_rejects(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), n, got.data());
+      ASSERT_EQ(got, expected) << to_string(k->level);
+    }
+  }
+}
+
+TEST(LaneMasks, CoplanarRejectsMatchTheFilterAtItsErrorBound) {
+  // Queries flattened towards a plane until the filter's decision flips: the cubic's
+  // coefficients then lie at its error bound, and the kernels must flip between the same two
+  // neighbouring inputs (a bound any smaller or larger flips elsewhere).
+  const auto levels = available_levels();
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int flips = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const CcdKind kind = trial % 2 ? CcdKind::EdgeEdge : CcdKind::VertexFace;
+    double base0[12], base1[12];
+    for (int i = 0; i < 12; ++i) base0[i] = U(rng), base1[i] = base0[i] + 0.3 * U(rng);
+    auto points = [&](double lambda, double* x0, double* x1) {
+      for (int i = 0; i < 12; ++i) {
+        x0[i] = i % 3 == 2 ? base0[i] * lambda : base0[i];
+        x1[i] = i % 3 == 2 ? base1[i] * lambda : base1[i];
+      }
+    };
+    auto scalar = [&](double lambda) {
+      double x0[12], x1[12];
+      points(lambda, x0, x1);
+      CcdPoints p;
+      for (int k = 0; k < 4; ++k) {
+        p.start[k] = Vec3(x0[3 * k], x0[3 * k + 1], x0[3 * k + 2]);
+        p.end[k] = Vec3(x1[3 * k], x1[3 * k + 1], x1[3 * k + 2]);
+      }
+      return filter_rejects_at_once(kind, p);
+    };
+    if (!scalar(1.0) || scalar(0x1p-200)) continue;
+    double lo = 0x1p-200, hi = 1.0;  // scalar(lo) false, scalar(hi) true
+    for (int it = 0; it < 200 && std::nextafter(lo, hi) != hi; ++it) {
+      const double mid = std::sqrt(lo) * std::sqrt(hi);
+      const double m = (mid > lo && mid < hi) ? mid : std::nextafter(lo, hi);
+      (scalar(m) ? hi : lo) = m;
+    }
+    ++flips;
+    for (double lambda : {lo, hi}) {
+      double x0[12], x1[12];
+      points(lambda, x0, x1);
+      const std::uint32_t ids[1][4] = {{0, 1, 2, 3}};
+      for (const LaneKernels* k : levels) {
+        std::uint8_t got = 2;
+        k->coplanar_rejects(kind == CcdKind::VertexFace, x0, x1, ids, 1, &got);
+        ASSERT_EQ(got, scalar(lambda) ? 1 : 0) << to_string(k->level) << " trial " << trial << " lambda " << lambda;
+      }
+    }
+  }
+  EXPECT_GT(flips, 100);
+}
+
+TEST(CoarseVolumes, GridKeeperHoldsThePositionsAndKeepsItsGrid) {
+  GridKeeper<9> keeper;
+  const double lo[3] = {-1, -2, 0}, hi[3] = {1, 2, 0};  // a flat scene
+  const CoarseGrid<9> first = keeper.fit(lo, hi);
+  // the box's corners are inside the grid (not clamped to its ends), the flat axis too
+  Kdop18 corner;
+  for (int s = 0; s < 9; ++s) corner.lo[s] = corner.hi[s] = 0;
+  corner.add_point(Vec3(-1, -2, 0));
+  corner.add_point(Vec3(1, 2, 0));
+  std::int16_t q[18];
+  first.quantize(corner, q);
+  for (int s = 0; s < 9; ++s) {
+    EXPECT_GT(q[s], -32768) << s;
+    EXPECT_LT(q[9 + s], 32767) << s;
+  }
+  // a small motion keeps the grid; leaving it or shrinking to a tenth makes a new one
+  const double lo2[3] = {-1.1, -2, 0}, hi2[3] = {1, 2.1, 0.002};
+  EXPECT_EQ(std::memcmp(&keeper.fit(lo2, hi2), &first, sizeof first), 0);
+  const double lo3[3] = {-5, -2, 0}, hi3[3] = {1, 2, 0};
+  EXPECT_NE(std::memcmp(&keeper.fit(lo3, hi3), &first, sizeof first), 0);
+  const double lo4[3] = {-0.1, -0.2, 0}, hi4[3] = {0.1, 0.2, 0};
+  const CoarseGrid<9> before = keeper.fit(lo3, hi3);
+  EXPECT_NE(std::memcmp(&keeper.fit(lo4, hi4), &before, sizeof before), 0);
+}
