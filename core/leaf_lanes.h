@@ -41,19 +41,46 @@ class LeafLanes {
   };
 
   LeafLanes() = default;
-  /// Room for every leaf of `bvh` (first_touch() zeroes it; ensure() fills a leaf's lanes).
+  /// Room for every leaf of `bvh` (first_touch() zeroes it; ensure() fills a leaf's lanes),
+  /// and the corner lanes of every edge's ends and face's corners.
   LeafLanes(const BvhTopology& bvh, const LeafOwnership& owners) {
     offset_.assign(std::size_t(3) * bvh.size(), 0);
-    std::size_t total = 0;
+    source_.assign(bvh.size(), kNone);
+    const std::vector<std::uint32_t>& slot_of = owners.layout().vertex_slot;
+    std::size_t total = 0, sources = 0;
     for (std::uint32_t node = 0; node < bvh.size(); ++node) {
       if (!bvh.leaf(node)) continue;
       offset_[3 * node] = static_cast<std::uint32_t>(total);
-      total += std::size_t(kRows) * stride(owners.vertex_begin(node + 1) - owners.vertex_begin(node));
+      total += std::size_t(kRows) * stride(corners(node, owners));
       offset_[3 * node + 1] = static_cast<std::uint32_t>(total);
       total += std::size_t(kRows) * stride(owners.edge_begin(node + 1) - owners.edge_begin(node));
       offset_[3 * node + 2] = static_cast<std::uint32_t>(total);
       total += std::size_t(kRows) * stride(bvh.leaf_count(node));
       if (total > 0xffffffffu - kLaneSlack) throw std::length_error("mccd: scene too large for its leaf lanes");
+      source_[node] = static_cast<std::uint32_t>(sources++);
+    }
+    sources_.assign(sources, {});
+    for (std::uint32_t node = 0; node < bvh.size(); ++node) {
+      if (!bvh.leaf(node)) continue;
+      // the corner lane of each of the leaf's corners: its own vertices, then the others'
+      const std::uint32_t vb = owners.vertex_begin(node), nv = owners.vertex_begin(node + 1) - vb;
+      const std::uint32_t fb = owners.foreign_begin(node), nf = owners.foreign_begin(node + 1) - fb;
+      auto lane = [&](std::uint32_t slot) -> std::uint8_t {
+        if (slot - vb < nv) return static_cast<std::uint8_t>(slot - vb);
+        for (std::uint32_t i = 0; i < nf; ++i)
+          if (owners.foreign_corner(fb + i) == slot) return static_cast<std::uint8_t>(nv + i);
+        throw std::logic_error("mccd: a leaf's corner list misses a corner");
+      };
+      std::uint8_t(*src)[kMaxLanes] = sources_[source_[node]].lane;
+      for (std::uint32_t j = 0, e = owners.edge_begin(node); e != owners.edge_begin(node + 1); ++j, ++e) {
+        const Edge& ends = owners.edge_ends(e);
+        src[0][j] = lane(slot_of[ends[0]]);
+        src[1][j] = lane(slot_of[ends[1]]);
+      }
+      for (std::uint32_t k = 0; k < bvh.leaf_count(node); ++k) {
+        const Triangle& c = owners.face_corner_slots(bvh.leaf_first(node) + k);
+        for (int i = 0; i < 3; ++i) src[2 + i][k] = lane(c[i]);
+      }
     }
     values_.resize(total + kLaneSlack);
     leaf_.resize(bvh.size());
@@ -90,14 +117,14 @@ class LeafLanes {
   /// Leaf `node`'s lanes, filled for this step when they are not yet (its vertices' coarse
   /// volumes from quantize_vertices(), its own from `volume`, the step's quarter volume of the
   /// leaf). Safe from several threads: one fills, the others wait for it.
-  void ensure(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners, const SweptVolumes<BV>& swept,
+  void ensure(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners,
               const QuarterVolume<BV>& volume) const {
     const std::uint32_t done = 2 * epoch_, busy = done + 1;
     std::atomic<std::uint32_t>& stamp = stamp_[node];
     std::uint32_t s = stamp.load(std::memory_order_acquire);
     if (s == done) return;
     if (s != busy && stamp.compare_exchange_strong(s, busy, std::memory_order_acquire)) {
-      const_cast<LeafLanes*>(this)->fill(node, bvh, owners, swept, volume);
+      const_cast<LeafLanes*>(this)->fill(node, bvh, owners, volume);
       stamp.store(done, std::memory_order_release);
       return;
     }
@@ -106,43 +133,32 @@ class LeafLanes {
 
  private:
   /// Leaf `node`'s lanes from the coarse volumes of the vertices (quantize_vertices()): its
-  /// vertices', its edges' (the merge of their ends') and its faces' (of their corners').
-  void fill(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners, const SweptVolumes<BV>& swept,
-            const QuarterVolume<BV>& volume) {
-    {
-      const std::uint32_t b = owners.vertex_begin(node), n = owners.vertex_begin(node + 1) - b;
-      std::int16_t* rows = values_.data() + offset_[3 * node];
-      const unsigned st = stride(n);
-      for (std::uint32_t j = 0; j < n; ++j) scatter(vertices_[b + j], rows + j, st);
-    }
-    {
-      const std::uint32_t b = owners.edge_begin(node), n = owners.edge_begin(node + 1) - b;
-      std::int16_t* rows = values_.data() + offset_[3 * node + 1];
-      const unsigned st = stride(n);
-      for (std::uint32_t j = 0; j < n; ++j) {
-        const Edge& e = swept.edge_end_slots_at(b + j);
-        scatter(merged(vertices_[e[0]], vertices_[e[1]]), rows + j, st);
-      }
-    }
-    {
-      const std::uint32_t b = bvh.leaf_first(node), n = bvh.leaf_count(node);
-      std::int16_t* rows = values_.data() + offset_[3 * node + 2];
-      const unsigned st = stride(n);
-      for (std::uint32_t j = 0; j < n; ++j) {
-        const Triangle& c = owners.face_corner_slots(b + j);
-        scatter(merged(merged(vertices_[c[0]], vertices_[c[1]]), vertices_[c[2]]), rows + j, st);
-      }
-    }
+  /// corners' (its own vertices', then the others'), then from those its edges' (the merge of
+  /// their ends') and its faces' (of their corners'), in lanes (LaneKernels::merge_lanes).
+  void fill(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners, const QuarterVolume<BV>& volume) {
+    const std::uint32_t vb = owners.vertex_begin(node), nv = owners.vertex_begin(node + 1) - vb;
+    const std::uint32_t fb = owners.foreign_begin(node), nf = owners.foreign_begin(node + 1) - fb;
+    std::int16_t* corners = values_.data() + offset_[3 * node];
+    const unsigned cs = stride(nv + nf);
+    for (std::uint32_t j = 0; j < nv; ++j) scatter(vertices_[vb + j], corners + j, cs);
+    for (std::uint32_t i = 0; i < nf; ++i) scatter(vertices_[owners.foreign_corner(fb + i)], corners + nv + i, cs);
+    const std::uint8_t(*src)[kMaxLanes] = sources_[source_[node]].lane;
+    const LaneKernels& k = lane_kernels();
+    const unsigned ne = owners.edge_begin(node + 1) - owners.edge_begin(node);
+    k.merge_lanes(corners, cs, kSlabs, src, 2, ne, values_.data() + offset_[3 * node + 1], stride(ne));
+    const unsigned nt = bvh.leaf_count(node);
+    k.merge_lanes(corners, cs, kSlabs, src + 2, 3, nt, values_.data() + offset_[3 * node + 2], stride(nt));
     quantize(grid_, volume.whole(), leaf_[node]);
   }
 
  public:
 
   /// Leaf `node`'s blocks: its owned vertices and edges (lane j: slot vertex_begin(node) + j,
-  /// edge_begin(node) + j), its faces (lane k: face slot leaf_first(node) + k).
+  /// edge_begin(node) + j), its faces (lane k: face slot leaf_first(node) + k). (The vertices'
+  /// block is the first lanes of its corners'.)
   Block vertices(std::uint32_t node, const LeafOwnership& owners) const {
     const unsigned n = owners.vertex_begin(node + 1) - owners.vertex_begin(node);
-    return {values_.data() + offset_[3 * node], stride(n), n};
+    return {values_.data() + offset_[3 * node], stride(corners(node, owners)), n};
   }
   Block edges(std::uint32_t node, const LeafOwnership& owners) const {
     const unsigned n = owners.edge_begin(node + 1) - owners.edge_begin(node);
@@ -173,6 +189,12 @@ class LeafLanes {
   }
 
  private:
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  static unsigned corners(std::uint32_t node, const LeafOwnership& owners) {
+    return owners.vertex_begin(node + 1) - owners.vertex_begin(node) + owners.foreign_begin(node + 1) -
+           owners.foreign_begin(node);
+  }
+
   /// A block's row length: a power of two from 8 to 64 lanes.
   static unsigned stride(unsigned n) { return n <= 8 ? 8 : n <= 16 ? 16 : n <= 32 ? 32 : 64; }
 
@@ -192,7 +214,14 @@ class LeafLanes {
     }
   }
 
-  std::vector<std::uint32_t> offset_;  ///< per node: its vertex, edge and face block
+  std::vector<std::uint32_t> offset_;  ///< per node: its corner, edge and face block
+  std::vector<std::uint32_t> source_;  ///< per leaf: its first entry in sources_
+  /// per leaf: the corner lanes of its edges' two ends (lane[0], lane[1]) and of its faces'
+  /// three corners (lane[2..4])
+  struct Sources {
+    std::uint8_t lane[5][kMaxLanes];
+  };
+  std::vector<Sources> sources_;
   LargeVector<std::int16_t> values_;
   Grid grid_{};
   std::uint32_t epoch_ = 0;  ///< steps begun: a leaf's lanes are this step's when its stamp is 2 epoch_

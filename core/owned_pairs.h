@@ -108,7 +108,7 @@ class OwnedPairs {
   static constexpr unsigned kSlabs = BV::kSlabs;
 
   /// Leaf `node`'s lanes, filled for the step.
-  void ensure(std::uint32_t node) const { lanes_.ensure(node, bvh_, owners_, tests_.swept(), nodes_[node]); }
+  void ensure(std::uint32_t node) const { lanes_.ensure(node, bvh_, owners_, nodes_[node]); }
 
   /// The lanes of `block` whose coarse volumes meet leaf `other`'s.
   std::uint64_t meeting_leaf(const Block& block, std::uint32_t other) const {

@@ -20,6 +20,27 @@ namespace mccd::detail {
 // shared between sets) and, past SSE2, in a region compiled for that set only: nothing from
 // these regions runs unless the processor has the set (lane_kernels_for()).
 
+namespace {
+/// LaneKernels::merge_lanes a lane at a time (the sets without a permute across lanes).
+void merge_lanes_by_lane(const std::int16_t* rows, unsigned stride, unsigned slabs,
+                         const std::uint8_t (*sources)[kMaxLanes], unsigned k, unsigned n, std::int16_t* out,
+                         unsigned out_stride) {
+  for (unsigned r = 0; r < 2 * slabs; ++r) {
+    const std::int16_t* in = rows + r * stride;
+    std::int16_t* o = out + r * out_stride;
+    const bool lower = r < slabs;
+    for (unsigned j = 0; j < n; ++j) {
+      std::int16_t v = in[sources[0][j]];
+      for (unsigned s = 1; s < k; ++s) {
+        const std::int16_t w = in[sources[s][j]];
+        v = lower ? (w < v ? w : v) : (w > v ? w : v);
+      }
+      o[j] = v;
+    }
+  }
+}
+}  // namespace
+
 namespace lanes_scalar {
 struct Ops {
   static constexpr unsigned kLanes = 8;
@@ -32,6 +53,7 @@ struct Ops {
   }
   static Acc join(Acc a, Acc b) { return a & b; }
   static std::uint32_t bits(Acc acc) { return acc; }
+  static constexpr auto merge = &merge_lanes_by_lane;
 };
 struct DOps {
   static constexpr unsigned kLanes = 1;
@@ -67,6 +89,7 @@ struct Ops {
   static std::uint32_t bits(Acc acc) {
     return ~static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(acc, _mm_setzero_si128()))) & 0xFFu;
   }
+  static constexpr auto merge = &merge_lanes_by_lane;
 };
 struct DOps {
   static constexpr unsigned kLanes = 2;
@@ -111,6 +134,7 @@ struct Ops {
         static_cast<std::uint32_t>(_mm256_movemask_epi8(_mm256_packs_epi16(acc, _mm256_setzero_si256())));
     return ~((m & 0xFFu) | (m >> 8 & 0xFF00u)) & 0xFFFFu;
   }
+  static constexpr auto merge = &merge_lanes_by_lane;
 };
 struct DOps {
   static constexpr unsigned kLanes = 4;
@@ -153,6 +177,26 @@ struct Ops {
   }
   static Acc join(Acc a, Acc b) { return _kand_mask32(a, b); }
   static std::uint32_t bits(Acc acc) { return acc; }
+  /// A row's 64 lanes in two registers, each out chunk of 32 lanes gathered from them with a
+  /// two-source permute.
+  static void merge(const std::int16_t* rows, unsigned stride, unsigned slabs, const std::uint8_t (*sources)[kMaxLanes],
+                    unsigned k, unsigned n, std::int16_t* out, unsigned out_stride) {
+    for (unsigned c = 0; c < n; c += 32) {
+      __m512i idx[3];
+      for (unsigned s = 0; s < k; ++s)
+        idx[s] = _mm512_cvtepu8_epi16(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(sources[s] + c)));
+      const __mmask32 keep = n - c >= 32 ? ~__mmask32(0) : (__mmask32(1) << (n - c)) - 1;
+      for (unsigned r = 0; r < 2 * slabs; ++r) {
+        const __m512i lo = _mm512_loadu_si512(rows + r * stride), hi = _mm512_loadu_si512(rows + r * stride + 32);
+        __m512i v = _mm512_permutex2var_epi16(lo, idx[0], hi);
+        for (unsigned s = 1; s < k; ++s) {
+          const __m512i w = _mm512_permutex2var_epi16(lo, idx[s], hi);
+          v = r < slabs ? _mm512_min_epi16(v, w) : _mm512_max_epi16(v, w);
+        }
+        _mm512_mask_storeu_epi16(out + r * out_stride + c, keep, v);
+      }
+    }
+  }
 };
 struct DOps {
   static constexpr unsigned kLanes = 8;

@@ -28,7 +28,7 @@ namespace mccd::detail {
 enum class SimdLevel { Scalar, Sse2, Avx2, Avx512 };
 
 /// Values a block may be read past its last row.
-inline constexpr unsigned kLaneSlack = 32;
+inline constexpr unsigned kLaneSlack = 64;
 /// The most lanes one block holds (the bits of one mask).
 inline constexpr unsigned kMaxLanes = 64;
 
@@ -43,6 +43,12 @@ struct LaneKernels {
   /// `rows` (n <= 64 lanes, `stride` 8, 16, 32 or 64) overlaps it.
   void (*dops)(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs, const CoarseDop* others,
                unsigned count, std::uint64_t* out);
+  /// Merges of lanes: out lane j (j < n) is the merge of the k (2 or 3) lanes sources[0][j],
+  /// sources[1][j] (, sources[2][j]) of the block `rows` (at most 64 lanes, `stride` 8 to 64):
+  /// along each of `slabs` slabs the least lower bound and the greatest upper bound. `out` a
+  /// block of n <= 64 lanes and stride `out_stride`.
+  void (*merge_lanes)(const std::int16_t* rows, unsigned stride, unsigned slabs, const std::uint8_t (*sources)[kMaxLanes],
+                      unsigned k, unsigned n, std::int16_t* out, unsigned out_stride);
   /// The coplanarity filter's first decision (geometry/ccd_filter.h) for `n` queries of one
   /// kind without a minimum distance: points ids[i][0..3] (VF: the vertex, then the face's
   /// corners; EE: one edge's ends, then the other's) at positions x0 and x1 (x, y, z

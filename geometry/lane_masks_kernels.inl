@@ -6,6 +6,7 @@
 //   Acc slab(lo, hi, olo, ohi)    along one slab: lane j is apart when lo[j] > ohi or olo > hi[j]
 //   Acc join(a, b)                along the slabs of both
 //   std::uint32_t bits(acc)       lane j's bit set when it overlaps along them
+//   merge(...)                    LaneKernels::merge_lanes
 // No headers here: geometry/lane_masks.cpp includes them before any instruction-set region.
 
 template <unsigned Slabs, unsigned Stride>
@@ -49,6 +50,11 @@ void dops(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs,
     dops_slabs<9>(rows, stride, n, others, count, out);
   else
     dops_slabs<3>(rows, stride, n, others, count, out);
+}
+
+void merge_lanes(const std::int16_t* rows, unsigned stride, unsigned slabs, const std::uint8_t (*sources)[kMaxLanes],
+                 unsigned k, unsigned n, std::int16_t* out, unsigned out_stride) {
+  Ops::merge(rows, stride, slabs, sources, k, n, out, out_stride);
 }
 
 // The coplanarity cubic of geometry/ccd_stages.h (both_times::coplanarity, cubic_of and
@@ -135,4 +141,4 @@ void coplanar_rejects(bool vertex_face, const double* x0, const double* x1, cons
     coplanar_rejects_of<false>(x0, x1, ids, n, reject);
 }
 
-const LaneKernels kernels{&dops, &coplanar_rejects, Ops::kLevel};
+const LaneKernels kernels{&dops, &merge_lanes, &coplanar_rejects, Ops::kLevel};

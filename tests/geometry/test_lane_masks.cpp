@@ -316,3 +316,34 @@ TEST(CoarseVolumes, GridKeeperHoldsThePositionsAndKeepsItsGrid) {
   const CoarseGrid<9> before = keeper.fit(lo3, hi3);
   EXPECT_NE(std::memcmp(&keeper.fit(lo4, hi4), &before, sizeof before), 0);
 }
+
+TEST(LaneMasks, MergesOfLanesMatchThePlainMerge) {
+  const auto levels = available_levels();
+  std::mt19937_64 rng(17);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const unsigned slabs = trial % 2 ? 9 : 3;
+    const unsigned stride = 8u << (trial % 4), out_stride = 8u << (rng() % 4);
+    const unsigned lanes = 1 + static_cast<unsigned>(rng() % stride), n = static_cast<unsigned>(rng() % (out_stride + 1));
+    const unsigned k = 2 + static_cast<unsigned>(rng() % 2);
+    std::vector<std::int16_t> rows(2 * slabs * stride + kLaneSlack);
+    for (auto& v : rows) v = random_bound(rng);
+    std::uint8_t sources[3][kMaxLanes] = {};
+    for (unsigned s = 0; s < k; ++s)
+      for (unsigned j = 0; j < n; ++j) sources[s][j] = static_cast<std::uint8_t>(rng() % lanes);
+    std::vector<std::int16_t> want(2 * slabs * out_stride, 7);
+    for (unsigned r = 0; r < 2 * slabs; ++r)
+      for (unsigned j = 0; j < n; ++j) {
+        std::int16_t v = rows[r * stride + sources[0][j]];
+        for (unsigned s = 1; s < k; ++s) {
+          const std::int16_t w = rows[r * stride + sources[s][j]];
+          v = r < slabs ? std::min(v, w) : std::max(v, w);
+        }
+        want[r * out_stride + j] = v;
+      }
+    for (const LaneKernels* kern : levels) {
+      std::vector<std::int16_t> got(2 * slabs * out_stride, 7);  // lanes past n left as they are
+      kern->merge_lanes(rows.data(), stride, slabs, sources, k, n, got.data(), out_stride);
+      ASSERT_EQ(got, want) << to_string(kern->level) << " trial " << trial;
+    }
+  }
+}
