@@ -168,6 +168,11 @@ class LeafLanes {
     const unsigned n = bvh.leaf_count(node);
     return {values_.data() + offset_[3 * node + 2], stride(n), n};
   }
+  /// All of leaf `node`'s blocks and its own coarse volume, for the kernels.
+  LeafBlocks blocks(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners) const {
+    const Block v = vertices(node, owners), e = edges(node, owners), f = faces(node, bvh);
+    return {v.rows, v.stride, v.n, e.rows, e.stride, e.n, f.rows, f.stride, f.n, &leaf_[node]};
+  }
   /// Leaf `node`'s own coarse volume (from its volume, which holds its features').
   const CoarseDop& leaf(std::uint32_t node) const { return leaf_[node]; }
   /// Vertex slot `slot`'s coarse volume (quantize_vertices()).

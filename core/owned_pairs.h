@@ -104,65 +104,35 @@ class OwnedPairs {
   }
 
  private:
-  using Block = typename Lanes::Block;
   static constexpr unsigned kSlabs = BV::kSlabs;
 
   /// Leaf `node`'s lanes, filled for the step.
   void ensure(std::uint32_t node) const { lanes_.ensure(node, bvh_, owners_, nodes_[node]); }
-
-  /// The lanes of `block` whose coarse volumes meet leaf `other`'s.
-  std::uint64_t meeting_leaf(const Block& block, std::uint32_t other) const {
-    std::uint64_t m = 0;
-    if (block.n) lane_kernels().dops(block.rows, block.stride, block.n, kSlabs, &lanes_.leaf(other), 1, &m);
-    return m;
-  }
-
-  /// The coarse volume of the edge in `slot` (the merge of its ends').
-  CoarseDop edge_coarse(std::uint32_t slot) const {
-    const Edge& e = tests_.swept().edge_end_slots_at(slot);
-    return Lanes::merged(lanes_.vertex(e[0]), lanes_.vertex(e[1]));
-  }
-
-  /// The lanes set in `chosen`, in order, into `lanes`; their number.
-  static unsigned lane_list(std::uint64_t chosen, std::uint8_t* lanes) {
-    unsigned n = 0;
-    for (; chosen; chosen &= chosen - 1) lanes[n++] = static_cast<std::uint8_t>(std::countr_zero(chosen));
-    return n;
-  }
 
   /// process() past its skips.
   void find(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     ensure(a);
     ensure(b);
-    vertices_against(a, b, out);
-    vertices_against(b, a, out);
-    // Edges of each side whose coarse volumes meet the other leaf's, then each such edge of A
-    // against B's in lanes, then the float quarter volumes of the pairs that meet there.
-    // Pairs that share an end always meet (both volumes hold the end's): they are told apart
-    // among those, and not counted as tests. B's edges' quarter volumes are merged from their
-    // ends' when first needed.
-    const Block ea = lanes_.edges(a, owners_), eb = lanes_.edges(b, owners_);
-    const std::uint64_t alive_a = meeting_leaf(ea, b);
-    if (!alive_a) return;
-    const std::uint64_t alive_b = meeting_leaf(eb, a);
-    if (!alive_b) return;
-    const std::uint32_t fa = owners_.edge_begin(a), fb = owners_.edge_begin(b);
-    std::uint8_t lanes[kMaxOwned];
-    const unsigned n = lane_list(alive_a, lanes);
-    CoarseDop others[kMaxOwned];
-    for (unsigned i = 0; i < n; ++i) others[i] = edge_coarse(fa + lanes[i]);
-    std::uint64_t met[kMaxOwned];
-    lane_kernels().dops(eb.rows, eb.stride, eb.n, kSlabs, others, n, met);
+    // The coarse tests of the two leaves at once (LaneKernels::pair_masks), then the float
+    // quarter volumes of the pairs they do not separate.
+    PairMasks m;
+    lane_kernels().pair_masks(kSlabs, lanes_.blocks(a, bvh_, owners_), lanes_.blocks(b, bvh_, owners_), m);
+    vertices_against<false>(a, b, m.alive_va, m.vertex_faces_ab, out);
+    vertices_against<false>(b, a, m.alive_vb, m.vertex_faces_ba, out);
+    if (!m.alive_ea || !m.alive_eb) return;
+    // Pairs of edges that share an end always meet (both volumes hold the end's): they are
+    // told apart among those, and not counted as tests. B's edges' quarter volumes are merged
+    // from their ends' when first needed.
     const SweptVolumes<BV>& swept = tests_.swept();
+    const std::uint32_t fa = owners_.edge_begin(a), fb = owners_.edge_begin(b);
     Quarters qb[kMaxOwned];
     std::uint64_t merged = 0;
     std::uint64_t tested = 0;
-    for (unsigned i = 0; i < n; ++i) {
-      const std::uint32_t sa = fa + lanes[i];
+    for (std::uint64_t left = m.alive_ea; left; left &= left - 1) {
+      const std::uint32_t sa = fa + static_cast<unsigned>(std::countr_zero(left));
       const Edge& x = owners_.edge_ends(sa);
-      std::uint64_t meet = met[i] & alive_b;
-      // (pairs sharing an end: not tested, not counted)
+      std::uint64_t meet = m.edges[sa - fa];
       for (std::uint64_t r = meet; r; r &= r - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(r));
         if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
@@ -178,8 +148,8 @@ class OwnedPairs {
           merged |= std::uint64_t(1) << j;
         }
         ++tested;
-        if (const unsigned m = qx.overlap_mask(qb[j]))
-          tests_.queue_ee(owners_.edge(sa), x, owners_.edge(sb), owners_.edge_ends(sb), m, a, b, out);
+        if (const unsigned mq = qx.overlap_mask(qb[j]))
+          tests_.queue_ee(owners_.edge(sa), x, owners_.edge(sb), owners_.edge_ends(sb), mq, a, b, out);
       }
     }
     out.stats.feature_box_tests += tested;
@@ -189,18 +159,15 @@ class OwnedPairs {
   /// LeafOwnership's apart masks) are tested.
   void find_self(std::uint32_t leaf, WorkerOutput& out) const {
     ensure(leaf);
-    vertices_against<true>(leaf, leaf, out);
-    // Each edge against the later ones it shares no end with: as in find().
-    const Block block = lanes_.edges(leaf, owners_);
-    const std::uint32_t begin = owners_.edge_begin(leaf);
+    const std::uint32_t begin = owners_.edge_begin(leaf), ne = owners_.edge_begin(leaf + 1) - begin;
+    // each edge against the later ones it shares no end with
     std::uint64_t with_later = 0;
-    for (unsigned i = 0; i < block.n; ++i) with_later |= std::uint64_t(owners_.apart_edges(begin + i) != 0) << i;
-    std::uint8_t lanes[kMaxOwned];
-    const unsigned n = lane_list(with_later, lanes);
-    CoarseDop others[kMaxOwned];
-    for (unsigned i = 0; i < n; ++i) others[i] = edge_coarse(begin + lanes[i]);
-    std::uint64_t met[kMaxOwned];
-    lane_kernels().dops(block.rows, block.stride, block.n, kSlabs, others, n, met);
+    for (unsigned i = 0; i < ne; ++i) with_later |= std::uint64_t(owners_.apart_edges(begin + i) != 0) << i;
+    SelfMasks m;
+    lane_kernels().self_masks(kSlabs, lanes_.blocks(leaf, bvh_, owners_), with_later, m);
+    const std::uint32_t nv = owners_.vertex_begin(leaf + 1) - owners_.vertex_begin(leaf);
+    vertices_against<true>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
+                           out);
     const SweptVolumes<BV>& swept = tests_.swept();
     Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged when first needed
     std::uint64_t merged = 0;
@@ -212,49 +179,42 @@ class OwnedPairs {
       return q[j];
     };
     std::uint64_t tested = 0;
-    for (unsigned i = 0; i < n; ++i) {
-      const std::uint32_t sa = begin + lanes[i];
-      std::uint64_t meet = met[i] & owners_.apart_edges(sa);
+    for (std::uint64_t left = with_later; left; left &= left - 1) {
+      const unsigned i = static_cast<unsigned>(std::countr_zero(left));
+      const std::uint32_t sa = begin + i;
+      std::uint64_t meet = m.edges[i] & owners_.apart_edges(sa);
       if (!meet) continue;
-      const Quarters& qx = quarters(lanes[i]);
+      const Quarters& qx = quarters(i);
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         const std::uint32_t sb = begin + j;
         ++tested;
-        if (const unsigned m = qx.overlap_mask(quarters(j)))
-          tests_.queue_ee(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), m, leaf,
+        if (const unsigned mq = qx.overlap_mask(quarters(j)))
+          tests_.queue_ee(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), mq, leaf,
                           leaf, out);
       }
     }
     out.stats.feature_box_tests += tested;
   }
 
-  /// The vertices leaf `p` owns against the faces of leaf `q`; `Self` (p == q): only the faces
-  /// that do not have the vertex as a corner (a face with the vertex as a corner always meets
-  /// it: told apart among those that do, and not counted as a test).
-  template <bool Self = false>
-  void vertices_against(std::uint32_t p, std::uint32_t q, WorkerOutput& out) const {
-    const Block vp = lanes_.vertices(p, owners_), fq = lanes_.faces(q, bvh_);
-    const std::uint64_t alive =
-        Self ? (vp.n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << vp.n) - 1) : meeting_leaf(vp, q);
-    if (!alive || !fq.n) return;
-    const std::uint32_t begin = owners_.vertex_begin(p);
-    std::uint8_t lanes[kMaxOwned];
-    const unsigned n = lane_list(alive, lanes);
-    CoarseDop others[kMaxOwned];
-    for (unsigned i = 0; i < n; ++i) others[i] = lanes_.vertex(begin + lanes[i]);
-    std::uint64_t met[kMaxOwned];
-    lane_kernels().dops(fq.rows, fq.stride, fq.n, kSlabs, others, n, met);
+  /// The vertices `alive` of those leaf `p` owns against the faces of leaf `q` they meet
+  /// (met[j] for vertex lane j); `Self` (p == q): only the faces that do not have the vertex as
+  /// a corner (a face with the vertex as a corner always meets it: told apart among those that
+  /// do, and not counted as a test).
+  template <bool Self>
+  void vertices_against(std::uint32_t p, std::uint32_t q, std::uint64_t alive, const std::uint64_t* met,
+                        WorkerOutput& out) const {
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t* faces = bvh_.leaf_triangles(q);
-    const std::uint32_t face_slot = bvh_.leaf_first(q);
+    const std::uint32_t face_slot = bvh_.leaf_first(q), begin = owners_.vertex_begin(p);
     Quarters face_quarters[BvhTopology::kMaxLeaf];
     unsigned merged = 0;  // bit k: face k's quarters merged
     std::uint64_t tested = 0;
-    for (unsigned i = 0; i < n; ++i) {
-      const std::uint32_t s = begin + lanes[i];
+    for (; alive; alive &= alive - 1) {
+      const unsigned lane = static_cast<unsigned>(std::countr_zero(alive));
+      const std::uint32_t s = begin + lane;
       const std::uint32_t v = owners_.vertex(s);
-      std::uint64_t meet = met[i];
+      std::uint64_t meet = met[lane];
       if constexpr (Self) meet &= owners_.apart_faces(s);
       for (; meet; meet &= meet - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));

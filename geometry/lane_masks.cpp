@@ -1,6 +1,7 @@
 #include <mccd/geometry/lane_masks.h>
 
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -53,6 +54,9 @@ struct Ops {
   }
   static Acc join(Acc a, Acc b) { return a & b; }
   static std::uint32_t bits(Acc acc) { return acc; }
+  using Row = const std::int16_t*;
+  static Row row(const std::int16_t* p) { return p; }
+  static Acc slab_row(Row lo, Row hi, std::int16_t olo, std::int16_t ohi) { return slab(lo, hi, olo, ohi); }
   static constexpr auto merge = &merge_lanes_by_lane;
 };
 struct DOps {
@@ -86,6 +90,11 @@ struct Ops {
     return _mm_or_si128(_mm_cmpgt_epi16(l, _mm_set1_epi16(ohi)), _mm_cmpgt_epi16(_mm_set1_epi16(olo), h));
   }
   static Acc join(Acc a, Acc b) { return _mm_or_si128(a, b); }
+  using Row = __m128i;
+  static Row row(const std::int16_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
+  static Acc slab_row(Row l, Row h, std::int16_t olo, std::int16_t ohi) {
+    return _mm_or_si128(_mm_cmpgt_epi16(l, _mm_set1_epi16(ohi)), _mm_cmpgt_epi16(_mm_set1_epi16(olo), h));
+  }
   static std::uint32_t bits(Acc acc) {
     return ~static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_packs_epi16(acc, _mm_setzero_si128()))) & 0xFFu;
   }
@@ -128,6 +137,11 @@ struct Ops {
                            _mm256_cmpgt_epi16(_mm256_set1_epi16(olo), h));
   }
   static Acc join(Acc a, Acc b) { return _mm256_or_si256(a, b); }
+  using Row = __m256i;
+  static Row row(const std::int16_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+  static Acc slab_row(Row l, Row h, std::int16_t olo, std::int16_t ohi) {
+    return _mm256_or_si256(_mm256_cmpgt_epi16(l, _mm256_set1_epi16(ohi)), _mm256_cmpgt_epi16(_mm256_set1_epi16(olo), h));
+  }
   static std::uint32_t bits(Acc acc) {
     // packed with zeros, per 128-bit half: lanes 0-7 in bytes 0-7, lanes 8-15 in bytes 16-23
     const std::uint32_t m =
@@ -176,6 +190,12 @@ struct Ops {
     return _mm512_mask_cmp_epi16_mask(below, _mm512_set1_epi16(olo), _mm512_loadu_si512(hi), _MM_CMPINT_LE);
   }
   static Acc join(Acc a, Acc b) { return _kand_mask32(a, b); }
+  using Row = __m512i;
+  static Row row(const std::int16_t* p) { return _mm512_loadu_si512(p); }
+  static Acc slab_row(Row l, Row h, std::int16_t olo, std::int16_t ohi) {
+    const __mmask32 below = _mm512_cmp_epi16_mask(l, _mm512_set1_epi16(ohi), _MM_CMPINT_LE);
+    return _mm512_mask_cmp_epi16_mask(below, _mm512_set1_epi16(olo), h, _MM_CMPINT_LE);
+  }
   static std::uint32_t bits(Acc acc) { return acc; }
   /// A row's 64 lanes in two registers, each out chunk of 32 lanes gathered from them with a
   /// two-source permute.

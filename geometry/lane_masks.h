@@ -38,11 +38,42 @@ struct alignas(64) CoarseDop {
   std::int16_t lo[16], hi[16];
 };
 
+/// One leaf's blocks for the kernels that test two leaves, or one, at once: its vertices', its
+/// edges' and its faces' (rows, stride, lanes), and its own coarse volume.
+struct LeafBlocks {
+  const std::int16_t* vertices;
+  unsigned vertex_stride, num_vertices;
+  const std::int16_t* edges;
+  unsigned edge_stride, num_edges;
+  const std::int16_t* faces;
+  unsigned face_stride, num_faces;
+  const CoarseDop* leaf;
+};
+
+/// What LaneKernels::pair_masks finds for leaves A and B: the lanes of each side's vertices and
+/// edges whose coarse volumes meet the other leaf's (alive_*); for each alive vertex j of A the
+/// faces of B it meets (vertex_faces_ab[j]), likewise of B against A; for each alive edge i of A
+/// the alive edges of B it meets (edges[i]). Entries of lanes not alive are left as they are.
+struct PairMasks {
+  std::uint64_t alive_va, alive_vb, alive_ea, alive_eb;
+  std::uint64_t vertex_faces_ab[kMaxLanes], vertex_faces_ba[kMaxLanes], edges[kMaxLanes];
+};
+
+/// What LaneKernels::self_masks finds inside one leaf: for each of its vertices the faces it
+/// meets, for each edge of `chosen` the edges it meets (entries of other lanes left as they are).
+struct SelfMasks {
+  std::uint64_t vertex_faces[kMaxLanes], edges[kMaxLanes];
+};
+
 struct LaneKernels {
   /// For each of `count` coarse k-DOPs others[i]: out[i] bit j set when lane j of the block
   /// `rows` (n <= 64 lanes, `stride` 8, 16, 32 or 64) overlaps it.
   void (*dops)(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs, const CoarseDop* others,
                unsigned count, std::uint64_t* out);
+  /// Leaves a and b's coarse tests against each other (PairMasks).
+  void (*pair_masks)(unsigned slabs, const LeafBlocks& a, const LeafBlocks& b, PairMasks& out);
+  /// Leaf l's coarse tests against itself (SelfMasks), its edges of `chosen` against all.
+  void (*self_masks)(unsigned slabs, const LeafBlocks& l, std::uint64_t chosen, SelfMasks& out);
   /// Merges of lanes: out lane j (j < n) is the merge of the k (2 or 3) lanes sources[0][j],
   /// sources[1][j] (, sources[2][j]) of the block `rows` (at most 64 lanes, `stride` 8 to 64):
   /// along each of `slabs` slabs the least lower bound and the greatest upper bound. `out` a

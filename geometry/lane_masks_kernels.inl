@@ -6,6 +6,8 @@
 //   Acc slab(lo, hi, olo, ohi)    along one slab: lane j is apart when lo[j] > ohi or olo > hi[j]
 //   Acc join(a, b)                along the slabs of both
 //   std::uint32_t bits(acc)       lane j's bit set when it overlaps along them
+//   Row row(ptr)                  a register's lanes of one row
+//   Acc slab_row(lo, hi, olo, ohi) slab() on rows already loaded
 //   merge(...)                    LaneKernels::merge_lanes
 // No headers here: geometry/lane_masks.cpp includes them before any instruction-set region.
 
@@ -50,6 +52,83 @@ void dops(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs,
     dops_slabs<9>(rows, stride, n, others, count, out);
   else
     dops_slabs<3>(rows, stride, n, others, count, out);
+}
+
+/// Block `rows` (runtime stride, n lanes) against the columns j of `chosen` of another block
+/// (value r of column j at cols[r * OS + j]): out[j] bit i set when lane i overlaps column j.
+/// The block's rows of a register's lanes are loaded once for every column.
+template <unsigned Slabs, unsigned OS>
+void block_vs_columns(const std::int16_t* rows, unsigned stride, unsigned n, const std::int16_t* cols,
+                      std::uint64_t chosen, std::uint64_t* out) {
+  const std::uint64_t valid = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
+  for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] = 0;
+  for (unsigned c = 0; c < n; c += Ops::kLanes) {
+    typename Ops::Row reg[2 * Slabs];
+    for (unsigned r = 0; r < 2 * Slabs; ++r) reg[r] = Ops::row(rows + r * stride + c);
+    for (std::uint64_t left = chosen; left; left &= left - 1) {
+      const unsigned j = static_cast<unsigned>(std::countr_zero(left));
+      const std::int16_t* o = cols + j;
+      auto slab = [&](unsigned s) { return Ops::slab_row(reg[s], reg[Slabs + s], o[s * OS], o[(Slabs + s) * OS]); };
+      typename Ops::Acc acc;
+      if constexpr (Slabs == 9) {
+        acc = Ops::join(Ops::join(Ops::join(slab(0), slab(1)), Ops::join(slab(2), slab(3))),
+                        Ops::join(Ops::join(slab(4), slab(5)), Ops::join(Ops::join(slab(6), slab(7)), slab(8))));
+      } else {
+        acc = Ops::join(Ops::join(slab(0), slab(1)), slab(2));
+      }
+      out[j] |= std::uint64_t(Ops::bits(acc)) << c;
+    }
+  }
+  for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] &= valid;
+}
+
+template <unsigned Slabs>
+void block_vs_block(const std::int16_t* rows, unsigned stride, unsigned n, const std::int16_t* cols, unsigned cstride,
+                    std::uint64_t chosen, std::uint64_t* out) {
+  switch (cstride) {
+    case 8: return block_vs_columns<Slabs, 8>(rows, stride, n, cols, chosen, out);
+    case 16: return block_vs_columns<Slabs, 16>(rows, stride, n, cols, chosen, out);
+    case 32: return block_vs_columns<Slabs, 32>(rows, stride, n, cols, chosen, out);
+    default: return block_vs_columns<Slabs, 64>(rows, stride, n, cols, chosen, out);
+  }
+}
+
+template <unsigned Slabs>
+void pair_masks_of(const LeafBlocks& a, const LeafBlocks& b, PairMasks& m) {
+  m.alive_va = m.alive_vb = m.alive_ea = m.alive_eb = 0;
+  if (a.num_vertices) dops_slabs<Slabs>(a.vertices, a.vertex_stride, a.num_vertices, b.leaf, 1, &m.alive_va);
+  if (b.num_vertices) dops_slabs<Slabs>(b.vertices, b.vertex_stride, b.num_vertices, a.leaf, 1, &m.alive_vb);
+  block_vs_block<Slabs>(b.faces, b.face_stride, b.num_faces, a.vertices, a.vertex_stride, m.alive_va,
+                        m.vertex_faces_ab);
+  block_vs_block<Slabs>(a.faces, a.face_stride, a.num_faces, b.vertices, b.vertex_stride, m.alive_vb,
+                        m.vertex_faces_ba);
+  if (a.num_edges) dops_slabs<Slabs>(a.edges, a.edge_stride, a.num_edges, b.leaf, 1, &m.alive_ea);
+  if (!m.alive_ea || !b.num_edges) return;
+  dops_slabs<Slabs>(b.edges, b.edge_stride, b.num_edges, a.leaf, 1, &m.alive_eb);
+  if (!m.alive_eb) return;
+  block_vs_block<Slabs>(b.edges, b.edge_stride, b.num_edges, a.edges, a.edge_stride, m.alive_ea, m.edges);
+  for (std::uint64_t c = m.alive_ea; c; c &= c - 1) m.edges[std::countr_zero(c)] &= m.alive_eb;
+}
+
+void pair_masks(unsigned slabs, const LeafBlocks& a, const LeafBlocks& b, PairMasks& out) {
+  if (slabs == 9)
+    pair_masks_of<9>(a, b, out);
+  else
+    pair_masks_of<3>(a, b, out);
+}
+
+template <unsigned Slabs>
+void self_masks_of(const LeafBlocks& l, std::uint64_t chosen, SelfMasks& m) {
+  const std::uint64_t all = l.num_vertices >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << l.num_vertices) - 1;
+  block_vs_block<Slabs>(l.faces, l.face_stride, l.num_faces, l.vertices, l.vertex_stride, all, m.vertex_faces);
+  block_vs_block<Slabs>(l.edges, l.edge_stride, l.num_edges, l.edges, l.edge_stride, chosen, m.edges);
+}
+
+void self_masks(unsigned slabs, const LeafBlocks& l, std::uint64_t chosen, SelfMasks& out) {
+  if (slabs == 9)
+    self_masks_of<9>(l, chosen, out);
+  else
+    self_masks_of<3>(l, chosen, out);
 }
 
 void merge_lanes(const std::int16_t* rows, unsigned stride, unsigned slabs, const std::uint8_t (*sources)[kMaxLanes],
@@ -141,4 +220,4 @@ void coplanar_rejects(bool vertex_face, const double* x0, const double* x1, cons
     coplanar_rejects_of<false>(x0, x1, ids, n, reject);
 }
 
-const LaneKernels kernels{&dops, &merge_lanes, &coplanar_rejects, Ops::kLevel};
+const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_rejects, Ops::kLevel};
