@@ -104,7 +104,9 @@ TEST(LaneMasks, LevelsAreNamedAndSelectable) {
   EXPECT_EQ(lane_kernels().level, SimdLevel::Scalar);
   select_simd_level(before);
   EXPECT_EQ(lane_kernels().level, before);
-  if (best != SimdLevel::Avx512) EXPECT_THROW(select_simd_level(SimdLevel::Avx512), Error);
+  if (best != SimdLevel::Avx512) {
+    EXPECT_THROW(select_simd_level(SimdLevel::Avx512), Error);
+  }
 }
 
 TEST(CoarseVolumes, NeverSeparateWhatFloatVolumesDoNot) {
@@ -228,7 +230,9 @@ TEST(LaneMasks, CoplanarRejectsAreTheFiltersOwn) {
       expected[q] = filter_rejects_at_once(kind, p);
       rejected += expected[q];
       // and a rejection is a pair the filter removes
-      if (expected[q]) ASSERT_EQ(coplanar_quarters(kind, p, 0.0), 0u);
+      if (expected[q]) {
+        ASSERT_EQ(coplanar_quarters(kind, p, 0.0), 0u);
+      }
     }
     EXPECT_GT(rejected, n / 4);
     EXPECT_LT(rejected, n);
