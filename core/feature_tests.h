@@ -104,10 +104,10 @@ class FeatureTests {
   }
 
   /// Feature pairs past their volume tests wait in out.queued, and run_queued() sends them to
-  /// the narrow phase together, in order: most are pairs that the coplanarity filter rejects
-  /// at once, and that decision is made for several pairs at a time in vector registers first
-  /// (LaneKernels::coplanar_rejects: the filter's own values), the others going through the
-  /// narrow phase one by one.
+  /// the narrow phase together, in order: most are pairs that the coplanarity filter removes,
+  /// and the filter runs for several pairs at a time in vector registers first
+  /// (LaneKernels::coplanar_quarters: its own values), only the pairs it keeps going through
+  /// the narrow phase one by one (which runs the filter again, to the same result).
   static constexpr std::size_t kQueue = 256;
 
   /// Queues vertex v (quarters `vq`) against face f (corners t, quarters `fq`) when their
@@ -135,32 +135,33 @@ class FeatureTests {
     bool prefilter = false;
     if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>) prefilter = !(narrow_.options.min_distance > 0);
     constexpr std::size_t kWindow = 2 * kQueue;
-    std::uint8_t reject[kWindow];
+    std::uint8_t filtered[kWindow];  // the filter's result, or kUndecided
     for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
       const std::size_t n = std::min(kWindow, q.size() - first);
       const QueuedPair* w = q.data() + first;
-      std::fill(reject, reject + n, std::uint8_t(0));
+      std::fill(filtered, filtered + n, kUndecided);
       if (prefilter) {
-        // each kind's pairs together, their ids gathered in order
+        // each kind's pairs together, their ids and quarters gathered in order
         std::uint32_t ids[kWindow][4];
+        std::uint8_t within[kWindow], r[kWindow];
         std::uint16_t where[kWindow];
-        std::uint8_t r[kWindow];
         for (std::uint8_t kind : {std::uint8_t(0), std::uint8_t(1)}) {
           std::size_t m = 0;
           for (std::size_t i = 0; i < n; ++i)
             if (w[i].kind == kind) {
               std::copy(w[i].ids, w[i].ids + 4, ids[m]);
+              within[m] = w[i].pieces;
               where[m++] = static_cast<std::uint16_t>(i);
             }
           if (!m) continue;
-          lane_kernels().coplanar_rejects(kind == 0, x0_.data(), x1_.data(), ids, m, r);
-          for (std::size_t j = 0; j < m; ++j) reject[where[j]] = r[j];
+          lane_kernels().coplanar_quarters(kind == 0, x0_.data(), x1_.data(), ids, within, m, r);
+          for (std::size_t j = 0; j < m; ++j) filtered[where[j]] = r[j];
         }
       }
       for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
         const QueuedPair& p = w[i];
         const bool vf = p.kind == 0;
-        if (reject[i]) {
+        if (filtered[i] == 0) {
           ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
           continue;
         }

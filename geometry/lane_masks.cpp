@@ -15,6 +15,14 @@
 #include <immintrin.h>
 #endif
 
+#if defined(__GNUC__) && !defined(__clang__)
+// GCC notes that the kernels' lambdas return vector registers under a wider instruction set
+// than the file's (-Wpsabi): they are inlined into their kernel, no such call crosses an ABI.
+// GCC 12 also reads _mm512_undefined_* in its own headers as uninitialized (its bug 105593).
+#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace mccd::detail {
 
 // Each instruction set's kernels live in a namespace of their own (so no inline function is

@@ -31,6 +31,8 @@ enum class SimdLevel { Scalar, Sse2, Avx2, Avx512 };
 inline constexpr unsigned kLaneSlack = 64;
 /// The most lanes one block holds (the bits of one mask).
 inline constexpr unsigned kMaxLanes = 64;
+/// LaneKernels::coplanar_quarters of a query it leaves to the filter itself.
+inline constexpr std::uint8_t kUndecided = 0xFF;
 
 /// One coarse k-DOP of at most 16 slabs on its own, for the kernels to test against blocks: its
 /// lower bounds lo[0..slabs), its upper bounds hi[0..slabs) (the rest unused).
@@ -80,16 +82,14 @@ struct LaneKernels {
   /// block of n <= 64 lanes and stride `out_stride`.
   void (*merge_lanes)(const std::int16_t* rows, unsigned stride, unsigned slabs, const std::uint8_t (*sources)[kMaxLanes],
                       unsigned k, unsigned n, std::int16_t* out, unsigned out_stride);
-  /// The coplanarity filter's first decision (geometry/ccd_filter.h) for `n` queries of one
-  /// kind without a minimum distance: points ids[i][0..3] (VF: the vertex, then the face's
-  /// corners; EE: one edge's ends, then the other's) at positions x0 and x1 (x, y, z
-  /// interleaved, by id). reject[i] = 1 when FilteredCcd::filter certainly returns 0: the
-  /// points' largest coordinate is in [2^-60, 2^60] and the coplanarity cubic's Bernstein
-  /// coefficients over the whole step all clear its error bound with one sign, both computed
-  /// with the filter's own operations in its own order (bit for bit its values); else 0 (the
-  /// filter decides).
-  void (*coplanar_rejects)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
-                           std::size_t n, std::uint8_t* reject);
+  /// The coplanarity filter (geometry/ccd_filter.h) of `n` queries of one kind without a
+  /// minimum distance, points ids[i][0..3] (VF: the vertex, then the face's corners; EE: one
+  /// edge's ends, then the other's) at positions x0 and x1 (x, y, z interleaved, by id), each
+  /// in the quarters within[i]: quarters[i] = what FilteredCcd::filter returns for it, computed
+  /// with the filter's own operations in its own order (bit for bit its values), when the
+  /// points' largest coordinate is in [2^-60, 2^60] (no scaling); kUndecided otherwise.
+  void (*coplanar_quarters)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                            const std::uint8_t* within, std::size_t n, std::uint8_t* quarters);
   SimdLevel level;
 };
 

@@ -142,8 +142,8 @@ void merge_lanes(const std::int16_t* rows, unsigned stride, unsigned slabs, cons
 // product's components as a.y * b.z - a.z * b.y and so on, the bound as
 // (96 u) * ((alpha * beta) * gamma) + 2^-800.
 template <bool VF>
-void coplanar_rejects_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4], std::size_t n,
-                         std::uint8_t* reject) {
+void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                          const std::uint8_t* within, std::size_t n, std::uint8_t* quarters) {
   using D = DOps;
   using V = typename D::V;
   constexpr unsigned W = D::kLanes;
@@ -203,21 +203,55 @@ void coplanar_rejects_of(const double* x0, const double* x1, const std::uint32_t
     const V alpha = D::max(amax(A[0]), amax(A[1])), beta = D::max(amax(B[0]), amax(B[1])),
             gamma = D::max(amax(C[0]), amax(C[1]));
     const V ef = D::add(D::mul(D::set1(96 * 0x1p-53), D::mul(D::mul(alpha, beta), gamma)), D::set1(0x1p-800));
-    const V nef = D::neg(ef);
-    const unsigned pos = D::gt(c0, ef) & D::gt(c1, ef) & D::gt(c2, ef) & D::gt(c3, ef);
-    const unsigned neg = D::gt(nef, c0) & D::gt(nef, c1) & D::gt(nef, c2) & D::gt(nef, c3);
+    // definite_sign(b, thr) != 0 of geometry/ccd_bernstein.h, per lane
+    auto definite = [](const V (&b)[4], V thr) {
+      const V nthr = D::neg(thr);
+      const unsigned pos = D::gt(b[0], thr) & D::gt(b[1], thr) & D::gt(b[2], thr) & D::gt(b[3], thr);
+      const unsigned neg = D::gt(nthr, b[0]) & D::gt(nthr, b[1]) & D::gt(nthr, b[2]) & D::gt(nthr, b[3]);
+      return pos | neg;
+    };
+    // split_half of geometry/ccd_bernstein.h: de Casteljau at 1/2, and the grown bound
+    const V half = D::set1(0.5), grow = D::set1(6 * 0x1p-53), tiny = D::set1(0x1p-800);
+    auto split = [&](const V (&b)[4], V err, V (&l)[4], V (&r)[4]) {
+      const V a0 = D::mul(D::add(b[0], b[1]), half), a1 = D::mul(D::add(b[1], b[2]), half),
+              a2 = D::mul(D::add(b[2], b[3]), half);
+      const V m0 = D::mul(D::add(a0, a1), half), m1 = D::mul(D::add(a1, a2), half);
+      const V mid = D::mul(D::add(m0, m1), half);
+      l[0] = b[0], l[1] = a0, l[2] = m0, l[3] = mid;
+      r[0] = mid, r[1] = m1, r[2] = a2, r[3] = b[3];
+      const V mag = D::max(D::max(D::max(D::max(D::zero(), D::abs(b[0])), D::abs(b[1])), D::abs(b[2])), D::abs(b[3]));
+      return D::add(D::add(err, D::mul(grow, mag)), tiny);
+    };
+    const V f[4] = {c0, c1, c2, c3};
+    // FilteredCcd::filter for the points in range (no minimum distance): 0 when the whole
+    // cubic is of one sign, else quarters_of (geometry/ccd.cpp): each half of one sign
+    // dropped, each quarter of the others kept unless of one sign, among the quarters asked for
+    unsigned kept[4] = {0, 0, 0, 0};
+    const unsigned whole = definite(f, ef);
+    V h[2][4];
+    const V eh = split(f, ef, h[0], h[1]);
+    for (unsigned i = 0; i < 2; ++i) {
+      const unsigned hd = definite(h[i], eh);
+      V q[2][4];
+      const V eq = split(h[i], eh, q[0], q[1]);
+      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite(q[j], eq);
+    }
     const unsigned range = D::ge(mx, D::set1(0x1p-60)) & D::ge(D::set1(0x1p60), mx);
-    const unsigned out = (pos | neg) & range;
-    for (unsigned i = 0; i < m; ++i) reject[first + i] = static_cast<std::uint8_t>(out >> i & 1u);
+    for (unsigned i = 0; i < m; ++i) {
+      const std::uint8_t asked = within[first + i];
+      std::uint8_t qs = 0;
+      for (unsigned k = 0; k < 4; ++k) qs |= static_cast<std::uint8_t>((kept[k] >> i & 1u) << k);
+      quarters[first + i] = (range >> i & 1u) ? static_cast<std::uint8_t>(qs & asked) : kUndecided;
+    }
   }
 }
 
-void coplanar_rejects(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
-                      std::size_t n, std::uint8_t* reject) {
+void coplanar_quarters(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                       const std::uint8_t* within, std::size_t n, std::uint8_t* quarters) {
   if (vertex_face)
-    coplanar_rejects_of<true>(x0, x1, ids, n, reject);
+    coplanar_quarters_of<true>(x0, x1, ids, within, n, quarters);
   else
-    coplanar_rejects_of<false>(x0, x1, ids, n, reject);
+    coplanar_quarters_of<false>(x0, x1, ids, within, n, quarters);
 }
 
-const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_rejects, Ops::kLevel};
+const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, Ops::kLevel};

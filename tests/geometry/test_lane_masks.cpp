@@ -185,18 +185,22 @@ TEST(CoarseVolumes, MergeIsTheCoarseVolumeOfTheMerge) {
 
 namespace {
 
-/// What the coplanarity filter's first decision is, from the filter itself: the points'
-/// largest coordinate in range and the whole cubic of one sign beyond its bound.
-bool filter_rejects_at_once(CcdKind kind, const CcdPoints& p) {
+/// The points' largest coordinate in [2^-60, 2^60]: what the kernel decides itself.
+bool in_range(const CcdPoints& p) {
   double mx = 0;
   for (const auto* side : {&p.start, &p.end})
     for (const Vec3& v : *side) mx = std::max(mx, v.cwiseAbs().maxCoeff());
-  return mx >= 0x1p-60 && mx <= 0x1p60 && !ccd_coplanarity_may_hit(kind, p, 0.0);
+  return mx >= 0x1p-60 && mx <= 0x1p60;
+}
+
+/// What the kernels must return for a query: the filter's own result, or kUndecided.
+std::uint8_t expected_quarters(CcdKind kind, const CcdPoints& p, unsigned within) {
+  return in_range(p) ? static_cast<std::uint8_t>(coplanar_quarters(kind, p, 0.0, within)) : kUndecided;
 }
 
 }  // namespace
 
-TEST(LaneMasks, CoplanarRejectsAreTheFiltersOwn) {
+TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
   const auto levels = available_levels();
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> U(-1, 1);
@@ -205,7 +209,9 @@ TEST(LaneMasks, CoplanarRejectsAreTheFiltersOwn) {
     const std::size_t n = 3000;
     std::vector<double> x0(3 * 4 * n), x1(3 * 4 * n);
     std::vector<std::array<std::uint32_t, 4>> ids(n);
+    std::vector<std::uint8_t> within(n);
     for (std::size_t q = 0; q < n; ++q) {
+      within[q] = static_cast<std::uint8_t>(q % 5 == 0 ? 0xF : 1 + rng() % 15);
       const double scale = std::pow(2.0, static_cast<int>(rng() % 160) - 80);  // some beyond 2^+-60
       const double motion = (q % 3 == 0) ? 0.0 : std::pow(10.0, -static_cast<int>(rng() % 6));
       for (int k = 0; k < 4; ++k) {
@@ -215,47 +221,46 @@ TEST(LaneMasks, CoplanarRejectsAreTheFiltersOwn) {
           const std::size_t i = 3 * ids[q][k] + c;
           x0[i] = scale * v;
           x1[i] = scale * (v + motion * U(rng));
-          if (q % 7 == 0 && c == 2) x0[i] = x1[i] = 0.0;  // all in one plane: never decided at once
+          if (q % 7 == 0 && c == 2) x0[i] = x1[i] = 0.0;  // all in one plane: never removed
         }
       }
     }
     std::vector<std::uint8_t> expected(n);
-    std::size_t rejected = 0;
+    std::size_t removed = 0, kept = 0;
     for (std::size_t q = 0; q < n; ++q) {
       CcdPoints p;
       for (int k = 0; k < 4; ++k) {
         p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
         p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
       }
-      expected[q] = filter_rejects_at_once(kind, p);
-      rejected += expected[q];
-      // and a rejection is a pair the filter removes
-      if (expected[q]) {
-        ASSERT_EQ(coplanar_quarters(kind, p, 0.0), 0u);
-      }
+      expected[q] = expected_quarters(kind, p, within[q]);
+      removed += expected[q] == 0;
+      kept += expected[q] != 0 && expected[q] != kUndecided;
     }
-    EXPECT_GT(rejected, n / 4);
-    EXPECT_LT(rejected, n);
+    EXPECT_GT(removed, n / 4);
+    EXPECT_GT(kept, n / 20);
     const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
     for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
     for (const LaneKernels* k : levels) {
-      std::vector<std::uint8_t> got(n, 2);
-      k->coplanar_rejects(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), n, got.data());
+      std::vector<std::uint8_t> got(n, 0x77);
+      k->coplanar_quarters(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), within.data(), n, got.data());
       ASSERT_EQ(got, expected) << to_string(k->level);
     }
   }
 }
 
-TEST(LaneMasks, CoplanarRejectsMatchTheFilterAtItsErrorBound) {
-  // Queries flattened towards a plane until the filter's decision flips: the cubic's
-  // coefficients then lie at its error bound, and the kernels must flip between the same two
-  // neighbouring inputs (a bound any smaller or larger flips elsewhere).
+TEST(LaneMasks, CoplanarQuartersMatchTheFilterAtItsErrorBounds) {
+  // Queries flattened towards a plane until the filter's result changes: the cubic's
+  // coefficients (or its halves' or quarters') then lie at their error bounds, and the kernels
+  // must change between the same two neighbouring inputs (a bound any smaller or larger
+  // changes elsewhere).
   const auto levels = available_levels();
   std::mt19937_64 rng(33);
   std::uniform_real_distribution<double> U(-1, 1);
   int flips = 0;
-  for (int trial = 0; trial < 400; ++trial) {
+  for (int trial = 0; trial < 600; ++trial) {
     const CcdKind kind = trial % 2 ? CcdKind::EdgeEdge : CcdKind::VertexFace;
+    const std::uint8_t within = static_cast<std::uint8_t>(trial % 3 == 0 ? 0xF : 1 + rng() % 15);
     double base0[12], base1[12];
     for (int i = 0; i < 12; ++i) base0[i] = U(rng), base1[i] = base0[i] + 0.3 * U(rng);
     auto points = [&](double lambda, double* x0, double* x1) {
@@ -272,14 +277,15 @@ TEST(LaneMasks, CoplanarRejectsMatchTheFilterAtItsErrorBound) {
         p.start[k] = Vec3(x0[3 * k], x0[3 * k + 1], x0[3 * k + 2]);
         p.end[k] = Vec3(x1[3 * k], x1[3 * k + 1], x1[3 * k + 2]);
       }
-      return filter_rejects_at_once(kind, p);
+      return expected_quarters(kind, p, within);
     };
-    if (!scalar(1.0) || scalar(0x1p-200)) continue;
-    double lo = 0x1p-200, hi = 1.0;  // scalar(lo) false, scalar(hi) true
+    const std::uint8_t at_one = scalar(1.0), at_zero = scalar(0x1p-200);
+    if (at_one == at_zero) continue;
+    double lo = 0x1p-200, hi = 1.0;  // scalar(lo) == at_zero, scalar(hi) != at_zero
     for (int it = 0; it < 200 && std::nextafter(lo, hi) != hi; ++it) {
       const double mid = std::sqrt(lo) * std::sqrt(hi);
       const double m = (mid > lo && mid < hi) ? mid : std::nextafter(lo, hi);
-      (scalar(m) ? hi : lo) = m;
+      (scalar(m) == at_zero ? lo : hi) = m;
     }
     ++flips;
     for (double lambda : {lo, hi}) {
@@ -287,9 +293,9 @@ TEST(LaneMasks, CoplanarRejectsMatchTheFilterAtItsErrorBound) {
       points(lambda, x0, x1);
       const std::uint32_t ids[1][4] = {{0, 1, 2, 3}};
       for (const LaneKernels* k : levels) {
-        std::uint8_t got = 2;
-        k->coplanar_rejects(kind == CcdKind::VertexFace, x0, x1, ids, 1, &got);
-        ASSERT_EQ(got, scalar(lambda) ? 1 : 0) << to_string(k->level) << " trial " << trial << " lambda " << lambda;
+        std::uint8_t got = 0x77;
+        k->coplanar_quarters(kind == CcdKind::VertexFace, x0, x1, ids, &within, 1, &got);
+        ASSERT_EQ(got, scalar(lambda)) << to_string(k->level) << " trial " << trial << " lambda " << lambda;
       }
     }
   }
