@@ -13,6 +13,7 @@
 
 #include "fixtures/scenes.h"
 #include "support/data.h"
+#include "support/real_step.h"
 
 using namespace mccd;
 
@@ -79,18 +80,9 @@ TEST(MethodsAndThreads, RandomTriangles) { expect_all_agree(make_random_triangle
 TEST(MethodsAndThreads, TwistingTube) { expect_all_agree(make_twisting_tube(40, 20, 31), true); }
 
 TEST(MethodsAndThreads, ClothBallRealStep) {
-  const auto dir = test::data_dir() / "toi" / "cloth-ball" / "frames";
+  const auto dir = test::cloth_ball_frames();
   MCCD_REQUIRE_DATA(dir);
-  std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().extension() == ".ply") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
-  ASSERT_EQ(files.size(), 2u);
-  const FrameSequence seq = read_frames(files);
-  AnimatedScene s;
-  s.name = "cloth-ball";
-  s.meshes = {seq.mesh};
-  s.frames = {{seq.frames[0]}, {seq.frames[1]}};
+  const AnimatedScene s = test::cloth_ball_step(dir);
   expect_all_agree(s, true);
 }
 
