@@ -173,25 +173,8 @@ class LeafLanes {
     const Block v = vertices(node, owners), e = edges(node, owners), f = faces(node, bvh);
     return {v.rows, v.stride, v.n, e.rows, e.stride, e.n, f.rows, f.stride, f.n, &leaf_[node]};
   }
-  /// Leaf `node`'s own coarse volume (from its volume, which holds its features').
-  const CoarseDop& leaf(std::uint32_t node) const { return leaf_[node]; }
   /// Vertex slot `slot`'s coarse volume (quantize_vertices()).
   const CoarseDop& vertex(std::uint32_t slot) const { return vertices_[slot]; }
-  /// The merge of two coarse volumes (as quantizing the merge of the float ones: every
-  /// rounding is monotone).
-  static CoarseDop merged(const CoarseDop& a, const CoarseDop& b) {
-    CoarseDop m;
-    for (int k = 0; k < 16; ++k) {
-      m.lo[k] = a.lo[k] < b.lo[k] ? a.lo[k] : b.lo[k];
-      m.hi[k] = a.hi[k] > b.hi[k] ? a.hi[k] : b.hi[k];
-    }
-    return m;
-  }
-
-  std::size_t bytes() const {
-    return values_.capacity() * sizeof(std::int16_t) + (leaf_.capacity() + vertices_.capacity()) * sizeof(CoarseDop) +
-           offset_.capacity() * sizeof(std::uint32_t);
-  }
 
  private:
   static constexpr std::uint32_t kNone = 0xffffffffu;

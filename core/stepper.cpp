@@ -160,29 +160,13 @@ void Stepper<BV>::update() {
   if (!lanes_.empty()) {
     // Every vertex's coarse volume on a grid that holds the step (the leaves' lanes are filled
     // from them when a leaf pair or the self stage first needs them).
-    double lo[3], hi[3];
-    positions_box(lo, hi);
-    if (lo[0] <= hi[0]) lanes_.begin(grid_.fit(lo, hi));
+    const Bounds3 b0 = bounding_box(x0_), b1 = bounding_box(x1_);
+    const Vec3 lo = b0.min.cwiseMin(b1.min), hi = b0.max.cwiseMax(b1.max);
+    if (lo.x() <= hi.x()) lanes_.begin(grid_.fit(lo.data(), hi.data()));
     dynamic_for(scene_.topology().num_vertices(), 8192,
                 [&](std::size_t b, std::size_t e) { lanes_.quantize_vertices(b, e, swept_); });
   }
   result_.stats.t_update = seconds_since(t);
-}
-
-template <BoundingVolume BV>
-void Stepper<BV>::positions_box(double lo[3], double hi[3]) const {
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = std::numeric_limits<double>::infinity();
-    hi[k] = -std::numeric_limits<double>::infinity();
-  }
-  for (const Positions* x : {&x0_, &x1_}) {
-    const double* p = x->data();
-    for (std::size_t i = 0, n = x->rows(); i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], p[3 * i + k]);
-        hi[k] = std::max(hi[k], p[3 * i + k]);
-      }
-  }
 }
 
 template <BoundingVolume BV>

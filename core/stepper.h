@@ -71,8 +71,6 @@ class Stepper {
   void refit();
   /// A leaf's quarter volumes: the merge of its corners' (owned, then the others'), each once.
   NodeVolume leaf_volume(std::uint32_t node) const;
-  /// The box of the step's start and end positions (lo > hi without vertices).
-  void positions_box(double lo[3], double hi[3]) const;
   void search();
   void self_pairs();
   void join();

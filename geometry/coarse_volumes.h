@@ -139,22 +139,4 @@ class GridKeeper {
   bool set_ = false;
 };
 
-/// The merge of two coarse volumes (as merging the float ones and then quantizing: every
-/// rounding is monotone).
-template <int Slabs>
-inline void coarse_merge(std::int16_t into[2 * Slabs], const std::int16_t other[2 * Slabs]) {
-  for (int s = 0; s < Slabs; ++s) {
-    into[s] = std::min(into[s], other[s]);
-    into[Slabs + s] = std::max(into[Slabs + s], other[Slabs + s]);
-  }
-}
-
-/// Whether two coarse volumes overlap (touching counts).
-template <int Slabs>
-inline bool coarse_overlap(const std::int16_t a[2 * Slabs], const std::int16_t b[2 * Slabs]) {
-  bool apart = false;
-  for (int s = 0; s < Slabs; ++s) apart |= (a[s] > b[Slabs + s]) | (b[s] > a[Slabs + s]);
-  return !apart;
-}
-
 }  // namespace mccd::detail

@@ -11,6 +11,19 @@
 //   merge(...)                    LaneKernels::merge_lanes
 // No headers here: geometry/lane_masks.cpp includes them before any instruction-set region.
 
+/// The lanes apart along some slab (Ops::bits() then gives those that overlap): slab(s) gives
+/// the lanes apart along slab s, joined in a tree (no long chain of dependent operations).
+template <unsigned Slabs, class Slab>
+typename Ops::Acc apart_along_slabs(const Slab& slab) {
+  if constexpr (Slabs == 9) {
+    return Ops::join(Ops::join(Ops::join(slab(0), slab(1)), Ops::join(slab(2), slab(3))),
+                     Ops::join(Ops::join(slab(4), slab(5)), Ops::join(Ops::join(slab(6), slab(7)), slab(8))));
+  } else {
+    static_assert(Slabs == 3);
+    return Ops::join(Ops::join(slab(0), slab(1)), slab(2));
+  }
+}
+
 template <unsigned Slabs, unsigned Stride>
 void dops_of(const std::int16_t* rows, unsigned n, const CoarseDop* others, unsigned count, std::uint64_t* out) {
   const std::uint64_t valid = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
@@ -19,17 +32,8 @@ void dops_of(const std::int16_t* rows, unsigned n, const CoarseDop* others, unsi
     std::uint64_t ov = 0;
     for (unsigned c = 0; c < n; c += Ops::kLanes) {
       const std::int16_t* r = rows + c;
-      // each slab on its own, then joined in a tree: no long chain of dependent operations
       auto slab = [&](unsigned s) { return Ops::slab(r + s * Stride, r + (Slabs + s) * Stride, o.lo[s], o.hi[s]); };
-      typename Ops::Acc acc;
-      if constexpr (Slabs == 9) {
-        acc = Ops::join(Ops::join(Ops::join(slab(0), slab(1)), Ops::join(slab(2), slab(3))),
-                        Ops::join(Ops::join(slab(4), slab(5)), Ops::join(Ops::join(slab(6), slab(7)), slab(8))));
-      } else {
-        static_assert(Slabs == 3);
-        acc = Ops::join(Ops::join(slab(0), slab(1)), slab(2));
-      }
-      ov |= std::uint64_t(Ops::bits(acc)) << c;
+      ov |= std::uint64_t(Ops::bits(apart_along_slabs<Slabs>(slab))) << c;
     }
     out[i] = ov & valid;
   }
@@ -69,14 +73,7 @@ void block_vs_columns(const std::int16_t* rows, unsigned stride, unsigned n, con
       const unsigned j = static_cast<unsigned>(std::countr_zero(left));
       const std::int16_t* o = cols + j;
       auto slab = [&](unsigned s) { return Ops::slab_row(reg[s], reg[Slabs + s], o[s * OS], o[(Slabs + s) * OS]); };
-      typename Ops::Acc acc;
-      if constexpr (Slabs == 9) {
-        acc = Ops::join(Ops::join(Ops::join(slab(0), slab(1)), Ops::join(slab(2), slab(3))),
-                        Ops::join(Ops::join(slab(4), slab(5)), Ops::join(Ops::join(slab(6), slab(7)), slab(8))));
-      } else {
-        acc = Ops::join(Ops::join(slab(0), slab(1)), slab(2));
-      }
-      out[j] |= std::uint64_t(Ops::bits(acc)) << c;
+      out[j] |= std::uint64_t(Ops::bits(apart_along_slabs<Slabs>(slab))) << c;
     }
   }
   for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] &= valid;

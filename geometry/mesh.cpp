@@ -1,5 +1,6 @@
 #include <mccd/geometry/mesh.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,6 +51,15 @@ std::size_t count_zero_area_faces(const TriMesh& mesh) {
 Bounds3 bounding_box(const PositionsView& positions) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   Bounds3 b{Vec3::Constant(inf), Vec3::Constant(-inf)};
+  if (positions.is_dense_double()) {  // one pass over the numbers, no conversion
+    const double* p = static_cast<const double*>(positions.data());
+    for (std::size_t v = 0, n = positions.rows(); v < n; ++v)
+      for (int k = 0; k < 3; ++k) {
+        b.min[k] = std::min(b.min[k], p[3 * v + k]);
+        b.max[k] = std::max(b.max[k], p[3 * v + k]);
+      }
+    return b;
+  }
   for (std::size_t v = 0; v < positions.rows(); ++v) {
     b.min = b.min.cwiseMin(positions.point(v));
     b.max = b.max.cwiseMax(positions.point(v));

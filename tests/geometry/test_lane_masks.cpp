@@ -25,6 +25,22 @@ using namespace mccd::detail;
 
 namespace {
 
+/// Plain references on coarse volumes as `quantize` writes them (lower bounds, then upper):
+/// the merge (least lower and greatest upper bounds) and the overlap test (touching counts).
+template <int Slabs>
+void coarse_merge(std::int16_t into[2 * Slabs], const std::int16_t other[2 * Slabs]) {
+  for (int s = 0; s < Slabs; ++s) {
+    into[s] = std::min(into[s], other[s]);
+    into[Slabs + s] = std::max(into[Slabs + s], other[Slabs + s]);
+  }
+}
+template <int Slabs>
+bool coarse_overlap(const std::int16_t a[2 * Slabs], const std::int16_t b[2 * Slabs]) {
+  bool apart = false;
+  for (int s = 0; s < Slabs; ++s) apart |= (a[s] > b[Slabs + s]) | (b[s] > a[Slabs + s]);
+  return !apart;
+}
+
 std::vector<const LaneKernels*> available_levels() {
   std::vector<const LaneKernels*> out;
   for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
