@@ -110,6 +110,22 @@ class FeatureTests {
   /// the narrow phase one by one (which runs the filter again, to the same result).
   static constexpr std::size_t kQueue = 256;
 
+  /// Whether run_queued() runs the coplanarity filter for several queued pairs at a time in
+  /// vector registers before the narrow phase (the default narrow phase without a minimum
+  /// distance).
+  bool prefilters() const {
+    if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>) return !(narrow_.options.min_distance > 0);
+    return false;
+  }
+
+  /// Bit of QueuedPair::pieces: the pair's own quarter volumes are not tested yet (the low
+  /// four bits then name quarters known to hold every quarter in which they overlap, such as
+  /// those of its leaves); run_queued() tests them after the coplanarity filter, only for the
+  /// pairs it keeps. Same contacts, times and elementary tests either way: the filter decides
+  /// each quarter on its own, so the filter over more quarters, intersected with the volumes'
+  /// quarters, is the filter over the volumes' quarters.
+  static constexpr std::uint8_t kVolumesPending = 0x10;
+
   /// Queues vertex v (quarters `vq`) against face f (corners t, quarters `fq`) when their
   /// quarter volumes overlap; found at leaves (leaf_a, leaf_b).
   void queue_vf(std::uint32_t v, const Quarters& vq, const Triangle& t, std::uint32_t f, const Quarters& fq,
@@ -127,13 +143,24 @@ class FeatureTests {
       out.queued.push_back({{eb[0], eb[1], ea[0], ea[1]}, b, a, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(pieces)});
   }
 
+  /// Queues vertex v against face f (corners t) with their quarter volumes untested
+  /// (kVolumesPending): `within`, quarters that hold every quarter in which they overlap.
+  void queue_vf_pending(std::uint32_t v, const Triangle& t, std::uint32_t f, unsigned within, std::uint32_t leaf_a,
+                        std::uint32_t leaf_b, WorkerOutput& out) const {
+    out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(within | kVolumesPending)});
+  }
+  /// The same for edges a and b (sharing no vertex, ends ea and eb).
+  void queue_ee_pending(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned within,
+                        std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
+    queue_ee(a, ea, b, eb, within | kVolumesPending, leaf_a, leaf_b, out);
+  }
+
   /// The narrow phase of every queued pair, in order (until the query stops); found(leaf_a,
   /// leaf_b) for each pair that adds a contact.
   template <class Found>
   void run_queued(WorkerOutput& out, const Found& found) const {
     std::vector<QueuedPair>& q = out.queued;
-    bool prefilter = false;
-    if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>) prefilter = !(narrow_.options.min_distance > 0);
+    const bool prefilter = prefilters();
     constexpr std::size_t kWindow = 2 * kQueue;
     std::uint8_t filtered[kWindow];  // the filter's result, or kUndecided
     for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
@@ -150,7 +177,7 @@ class FeatureTests {
           for (std::size_t i = 0; i < n; ++i)
             if (w[i].kind == kind) {
               std::copy(w[i].ids, w[i].ids + 4, ids[m]);
-              within[m] = w[i].pieces;
+              within[m] = w[i].pieces & 0xFu;
               where[m++] = static_cast<std::uint16_t>(i);
             }
           if (!m) continue;
@@ -165,9 +192,18 @@ class FeatureTests {
           ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
           continue;
         }
+        unsigned pieces = p.pieces & 0xFu;
+        if (p.pieces & kVolumesPending) {
+          pieces = volume_quarters(p);
+          if (!pieces) continue;  // the volumes never meet in a common quarter
+          if (filtered[i] != kUndecided && !(filtered[i] & pieces)) {
+            ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
+            continue;
+          }
+        }
         const std::size_t before = out.contacts.size();
         narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
-               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, p.pieces, out);
+               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, pieces, out);
         if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
       }
     }
@@ -180,6 +216,15 @@ class FeatureTests {
   }
 
  private:
+  /// The quarters in which a queued pair's own quarter volumes overlap (VF: the vertex's
+  /// against the face's; EE: edge against edge, each merged from its ends').
+  unsigned volume_quarters(const QueuedPair& p) const {
+    const std::uint32_t* v = p.ids;
+    if (p.kind == 0) return swept_.vertex_quarters(v[0]).overlap_mask(swept_.face_quarters({v[1], v[2], v[3]}));
+    return Quarters::merged(swept_.vertex_quarters(v[0]), swept_.vertex_quarters(v[1]))
+        .overlap_mask(Quarters::merged(swept_.vertex_quarters(v[2]), swept_.vertex_quarters(v[3])));
+  }
+
   /// The narrow phase of a pair past its volume tests, in the quarters `pieces`: the points
   /// `ids` (VF: vertex, then the face's corners; EE: edge a's ends, then edge b's), the pair
   /// (a, b) as reported.

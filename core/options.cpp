@@ -67,6 +67,8 @@ constexpr Named<Representatives> kRepresentatives[] = {{Representatives::Default
                                                        {Representatives::Leaf, "leaf"},
                                                        {Representatives::Canonical, "canonical"}};
 constexpr Named<VolumeKind> kVolumes[] = {{VolumeKind::Kdop18, "kdop18"}, {VolumeKind::Aabb, "aabb"}};
+constexpr Named<VolumeOrder> kVolumeOrders[] = {
+    {VolumeOrder::Adaptive, "adaptive"}, {VolumeOrder::First, "first"}, {VolumeOrder::AfterFilter, "after-filter"}};
 
 }  // namespace
 
@@ -80,6 +82,8 @@ Representatives parse_representatives(const char* name) {
 }
 const char* to_string(VolumeKind v) { return name_of(kVolumes, v); }
 VolumeKind parse_volume(const char* name) { return parse_named(kVolumes, name, "bounding volume"); }
+const char* to_string(VolumeOrder o) { return name_of(kVolumeOrders, o); }
+VolumeOrder parse_volume_order(const char* name) { return parse_named(kVolumeOrders, name, "volume order"); }
 
 Representatives resolved_representatives(const SceneOptions& o) {
   if (o.representatives != Representatives::Default) return o.representatives;
@@ -91,6 +95,7 @@ void validate(const SceneOptions& o) {
   check_named(kVolumes, o.volume, "volume", "VolumeKind");
   check_named(kBvhBuilds, o.bvh, "bvh", "BvhBuild");
   check_named(kRepresentatives, o.representatives, "representatives", "Representatives");
+  check_named(kVolumeOrders, o.volume_order, "volume_order", "VolumeOrder");
   if (o.leaf_size > 16)
     throw Error("scene options: leaf_size must be 0 (default) or 1 to 16, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))

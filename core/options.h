@@ -59,6 +59,22 @@ const char* to_string(VolumeKind v);
 /// Parses "kdop18" or "aabb"; throws mccd::Error otherwise.
 VolumeKind parse_volume(const char* name);
 
+/// When a feature pair's own quarter volumes are tested under the leaf rule, relative to the
+/// coplanarity filter (core/feature_tests.h). The filter decides each quarter of the step on
+/// its own, so every order gives the same contacts, times and elementary tests; only the work
+/// differs (and StepStats::vf_filtered / ee_filtered: after the filter, they also count pairs
+/// whose volumes would not have met).
+enum class VolumeOrder : std::uint8_t {
+  Adaptive,     ///< after the filter at leaves that move little against their edges' lengths
+                ///< (where nearly every pair's volumes meet), first elsewhere
+  First,        ///< always first: the filter sees only pairs whose volumes meet
+  AfterFilter,  ///< always after the filter, only for the pairs it keeps
+};
+/// "adaptive", "first" or "after-filter".
+const char* to_string(VolumeOrder o);
+/// Parses "adaptive", "first" or "after-filter"; throws mccd::Error otherwise.
+VolumeOrder parse_volume_order(const char* name);
+
 /// How one mesh takes part in the scene.
 struct MeshOptions {
   /// A static mesh keeps its initial positions: a step needs none for it (an empty
@@ -98,6 +114,9 @@ struct SceneOptions {
   /// boundary, seen along it, stays a simple curve; core/self_culling.h). Exact: contacts do
   /// not change. Used only under the leaf rule and without a minimum distance.
   bool self_culling = true;
+  /// When feature pairs' quarter volumes are tested, relative to the coplanarity filter (leaf
+  /// rule, no minimum distance; VolumeOrder). Same contacts in every order.
+  VolumeOrder volume_order = VolumeOrder::Adaptive;
   /// Where the parallel stages run; nullptr: the caller's arena. mccd never creates a
   /// global_control and never changes the arena's concurrency.
   tbb::task_arena* arena = nullptr;

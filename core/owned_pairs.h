@@ -13,7 +13,12 @@
 /// what the float ones do not, so they only skip pairs. Each pair they do not separate (a
 /// feature-pair test in the statistics) is tested on the features' float quarter volumes, and
 /// the quarters in which those overlap go with the pair to the narrow phase, queued
-/// (FeatureTests::queue_vf, queue_ee; run by finish()). That is the same for every way of
+/// (FeatureTests::queue_vf, queue_ee; run by finish()). At leaves that move little against
+/// their edges' lengths (LeafLanes::still; SceneOptions::volume_order), nearly every such pair's
+/// volumes meet, and most pairs are then removed by the coplanarity filter: there a pair is
+/// queued with its leaf pair's quarters and its own volumes are tested after the filter, only
+/// if the filter keeps it (FeatureTests::kVolumesPending; same contacts and elementary tests).
+/// That is the same for every way of
 /// reaching the pair (brute force, the canonical rule): a pair's own quarter volumes lie inside
 /// those of its leaves, so testing them first changes nothing.
 #include <bit>
@@ -55,7 +60,7 @@ class OwnedPairs {
       ++out.stats.repeated_leaf_pairs;
       return;
     }
-    find(a, b, out);
+    find(a, b, within, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -110,7 +115,7 @@ class OwnedPairs {
   void ensure(std::uint32_t node) const { lanes_.ensure(node, bvh_, owners_, nodes_[node]); }
 
   /// process() past its skips.
-  void find(std::uint32_t a, std::uint32_t b, WorkerOutput& out) const {
+  void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     ensure(a);
     ensure(b);
@@ -118,8 +123,9 @@ class OwnedPairs {
     // quarter volumes of the pairs they do not separate.
     PairMasks m;
     lane_kernels().pair_masks(kSlabs, lanes_.blocks(a, bvh_, owners_), lanes_.blocks(b, bvh_, owners_), m);
-    vertices_against<false>(a, b, m.alive_va, m.vertex_faces_ab, out);
-    vertices_against<false>(b, a, m.alive_vb, m.vertex_faces_ba, out);
+    const bool defer = deferring_ && lanes_.still(a) && lanes_.still(b);
+    vertices_against<false>(a, b, m.alive_va, m.vertex_faces_ab, out, defer, within);
+    vertices_against<false>(b, a, m.alive_vb, m.vertex_faces_ba, out, defer, within);
     if (!m.alive_ea || !m.alive_eb) return;
     // Pairs of edges that share an end always meet (both volumes hold the end's): they are
     // told apart among those, and not counted as tests. B's edges' quarter volumes are merged
@@ -138,6 +144,14 @@ class OwnedPairs {
         if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
       }
       if (!meet) continue;
+      if (defer) {
+        tested += static_cast<unsigned>(std::popcount(meet));
+        for (; meet; meet &= meet - 1) {
+          const std::uint32_t sb = fb + static_cast<unsigned>(std::countr_zero(meet));
+          tests_.queue_ee_pending(owners_.edge(sa), x, owners_.edge(sb), owners_.edge_ends(sb), within, a, b, out);
+        }
+        continue;
+      }
       Quarters qx;
       swept.edge_quarters_into(sa, qx);
       for (; meet; meet &= meet - 1) {
@@ -166,8 +180,9 @@ class OwnedPairs {
     SelfMasks m;
     lane_kernels().self_masks(kSlabs, lanes_.blocks(leaf, bvh_, owners_), with_later, m);
     const std::uint32_t nv = owners_.vertex_begin(leaf + 1) - owners_.vertex_begin(leaf);
+    const bool defer = deferring_ && lanes_.still(leaf);
     vertices_against<true>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
-                           out);
+                           out, defer, 0xF);
     const SweptVolumes<BV>& swept = tests_.swept();
     Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged when first needed
     std::uint64_t merged = 0;
@@ -184,6 +199,15 @@ class OwnedPairs {
       const std::uint32_t sa = begin + i;
       std::uint64_t meet = m.edges[i] & owners_.apart_edges(sa);
       if (!meet) continue;
+      if (defer) {
+        tested += static_cast<unsigned>(std::popcount(meet));
+        for (; meet; meet &= meet - 1) {
+          const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
+          tests_.queue_ee_pending(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), 0xF,
+                                  leaf, leaf, out);
+        }
+        continue;
+      }
       const Quarters& qx = quarters(i);
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
@@ -200,10 +224,11 @@ class OwnedPairs {
   /// The vertices `alive` of those leaf `p` owns against the faces of leaf `q` they meet
   /// (met[j] for vertex lane j); `Self` (p == q): only the faces that do not have the vertex as
   /// a corner (a face with the vertex as a corner always meets it: told apart among those that
-  /// do, and not counted as a test).
+  /// do, and not counted as a test). `defer`: queued with the quarters `within` (holding those
+  /// of their volumes), the volumes tested after the filter.
   template <bool Self>
   void vertices_against(std::uint32_t p, std::uint32_t q, std::uint64_t alive, const std::uint64_t* met,
-                        WorkerOutput& out) const {
+                        WorkerOutput& out, bool defer, unsigned within) const {
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t* faces = bvh_.leaf_triangles(q);
     const std::uint32_t face_slot = bvh_.leaf_first(q), begin = owners_.vertex_begin(p);
@@ -221,6 +246,10 @@ class OwnedPairs {
         const Triangle& t = owners_.face_corners(face_slot + k);
         if (!Self && has_corner(t, v)) continue;
         ++tested;
+        if (defer) {
+          tests_.queue_vf_pending(v, t, faces[k], within, p, q, out);
+          continue;
+        }
         if (!(merged >> k & 1u)) {
           const Triangle& c = owners_.face_corner_slots(face_slot + k);
           face_quarters[k].merge_of(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
@@ -239,6 +268,9 @@ class OwnedPairs {
   const Lanes& lanes_;
   const FeatureTests<BV, NarrowPhase>& tests_;
   const UnchangedLeaves* unchanged_;
+  /// Whether the narrow phase filters queued pairs before it tests them one by one (without
+  /// that, testing the volumes later saves nothing).
+  bool deferring_ = tests_.prefilters();
 };
 
 }  // namespace mccd::detail

@@ -90,6 +90,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
   swept_.first_touch(touch_chunks);
   first_touch(nodes_, touch_chunks);
   lanes_.first_touch(touch_chunks);
+  lanes_.set_order(options.volume_order);
   // With static meshes, every volume once at the initial positions: the static meshes' stay
   // as they are (the others are recomputed by every step).
   bool any_static = false;
