@@ -4,6 +4,7 @@
 #include <mccd/geometry/large_allocator.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <array>
 #include <limits>
 #include <numeric>
@@ -97,7 +98,7 @@ class Builder {
     out.push_back({0, 0});
     depth = std::max(depth, level);
     if (hi - lo <= max_leaf_) {
-      out[index] = {index + 1, static_cast<std::uint32_t>(lo << 4 | (hi - lo - 1))};
+      out[index] = {index + 1, static_cast<std::uint32_t>(lo << 5 | (hi - lo - 1))};
       return index;
     }
     const std::size_t m = kind_ == BvhBuild::Median ? split_median(lo, hi) : split_sah(lo, hi);
@@ -302,6 +303,7 @@ BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild 
     : max_leaf_(std::clamp(max_leaf, 1u, kMaxLeaf)) {
   const std::size_t n = triangles.size();
   if (n == 0) return;
+  if (n > kMaxTriangles) throw std::length_error("mccd: more than 2^27 triangles in one scene");
   nodes_.reserve(2 * n - 1);
   Builder b(triangles, kind, max_leaf_, nodes_, order_, node_mesh_);
   std::vector<std::size_t> offsets;

@@ -22,21 +22,25 @@ std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, 
 
 struct BvhNode {
   std::uint32_t end;            ///< 4 bytes: one past the last node of this subtree
-  std::uint32_t right_or_leaf;  ///< 4 bytes: right child (inner), or (first << 4 | count - 1) (leaf)
+  std::uint32_t right_or_leaf;  ///< 4 bytes: right child (inner), or (first << 5 | count - 1) (leaf)
 };
 static_assert(sizeof(BvhNode) == 8, "BvhNode: two 32-bit fields");
 
 /// The shape of the hierarchy; volumes live beside it, one per node (structure of arrays).
-/// A leaf holds 1 to 16 triangles, consecutive in triangle_order().
+/// A leaf holds 1 to 21 triangles, consecutive in triangle_order().
 class BvhTopology {
  public:
-  static constexpr unsigned kMaxLeaf = 16;
+  /// The most triangles of a leaf: a leaf's vertices and edges (3 per triangle at most) are
+  /// the lanes of 64-bit masks (core/owned_pairs.h).
+  static constexpr unsigned kMaxLeaf = 21;
+  /// A leaf's first triangle and count share 32 bits (5 for the count).
+  static constexpr std::size_t kMaxTriangles = std::size_t(1) << 27;
 
   BvhTopology() = default;
   /// Builds top-down over the triangles. Median (the paper's): split the longest axis of the
   /// centroid bounds at its midpoint. Sah: the binned surface area heuristic over the
   /// triangles' boxes. When every centroid falls on one side, the range is split in half by
-  /// count. A range of at most `max_leaf` (1..16) triangles becomes a leaf.
+  /// count. A range of at most `max_leaf` (1..21) triangles becomes a leaf.
   /// With `mesh_offsets` (triangle ranges of the meshes, [m, m + 1)), every mesh gets its own
   /// subtree, under a top built over the meshes (split at the median of their centroids along
   /// the widest axis); mesh_of_node() then names the mesh below a node (kMixed above nodes of
@@ -53,10 +57,10 @@ class BvhTopology {
   std::uint32_t left(std::uint32_t i) const { return i + 1; }
   std::uint32_t right(std::uint32_t i) const { return nodes_[i].right_or_leaf; }
   /// The triangles of leaf i: leaf_count(i) ids from leaf_triangles(i).
-  const std::uint32_t* leaf_triangles(std::uint32_t i) const { return order_.data() + (nodes_[i].right_or_leaf >> 4); }
-  std::uint32_t leaf_count(std::uint32_t i) const { return (nodes_[i].right_or_leaf & 15u) + 1; }
+  const std::uint32_t* leaf_triangles(std::uint32_t i) const { return order_.data() + (nodes_[i].right_or_leaf >> 5); }
+  std::uint32_t leaf_count(std::uint32_t i) const { return (nodes_[i].right_or_leaf & 31u) + 1; }
   /// Where the triangles of leaf i start in triangle_order().
-  std::uint32_t leaf_first(std::uint32_t i) const { return nodes_[i].right_or_leaf >> 4; }
+  std::uint32_t leaf_first(std::uint32_t i) const { return nodes_[i].right_or_leaf >> 5; }
   /// Number of nodes in the subtree of i.
   std::uint32_t subtree_size(std::uint32_t i) const { return nodes_[i].end - i; }
   const std::vector<BvhNode>& nodes() const { return nodes_; }

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include <mccd/core/bvh.h>
 #include <mccd/geometry/error.h>
 
 namespace mccd {
@@ -96,8 +97,8 @@ void validate(const SceneOptions& o) {
   check_named(kBvhBuilds, o.bvh, "bvh", "BvhBuild");
   check_named(kRepresentatives, o.representatives, "representatives", "Representatives");
   check_named(kVolumeOrders, o.volume_order, "volume_order", "VolumeOrder");
-  if (o.leaf_size > 16)
-    throw Error("scene options: leaf_size must be 0 (default) or 1 to 16, got " + std::to_string(o.leaf_size));
+  if (o.leaf_size > BvhTopology::kMaxLeaf)
+    throw Error("scene options: leaf_size must be 0 (default) or 1 to 21, got " + std::to_string(o.leaf_size));
   if (!(o.min_distance >= 0) || !std::isfinite(o.min_distance))
     throw Error("scene options: min_distance must be finite and >= 0, got " + std::to_string(o.min_distance));
   if (!(o.rebuild_sprout_ratio > 0) || !(o.rebuild_invalid_ratio > 0))

@@ -90,8 +90,8 @@ struct SceneOptions {
   Method method = Method::Fbd;  ///< default method of step() and advance()
   VolumeKind volume = VolumeKind::Kdop18;
   BvhBuild bvh = BvhBuild::Sah;
-  /// Triangles per BVH leaf, 1 to 16; 0 picks the build's default (1 for median, as the
-  /// paper; 16, the most, for sah).
+  /// Triangles per BVH leaf, 1 to 21; 0 picks the build's default (1 for median, as the
+  /// paper; 21, the most, for sah).
   unsigned leaf_size = 0;
   /// Where each feature pair is tested (Default: Leaf with sah, Canonical with median).
   Representatives representatives = Representatives::Default;

@@ -50,7 +50,7 @@ bool ray_meets_box(const Quarters& v, const Vec3& o, const Vec3& d) {
 template <BoundingVolume BV>
 BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
                                    const SceneOptions& options, const Positions& initial) {
-  const unsigned leaf = options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : 16u);
+  const unsigned leaf = options.leaf_size ? options.leaf_size : (options.bvh == BvhBuild::Median ? 1u : BvhTopology::kMaxLeaf);
   return BvhTopology(triangle_bounds(faces, initial), options.bvh, leaf, face_offsets, &faces);
 }
 

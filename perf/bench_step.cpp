@@ -1,7 +1,7 @@
 // One real step, timed per stage: the engine's own view of a Time-of-Impact scene (no truth
 // check), for measuring changes to the core. Repeats the step from scratch (a new Scene each
 // time, so the front is built from the root as in `mccd toi-check`) and prints the medians.
-//   bench_step [DIR] [--bvh median|sah] [--leaf 1..16] [--method fbd|phc|traverse] [--threads N] [--repeat K]
+//   bench_step [DIR] [--bvh median|sah] [--leaf 1..21] [--method fbd|phc|traverse] [--threads N] [--repeat K]
 // DIR: a Time-of-Impact scene, DIR/frames/*.ply (default: the shared data's toi/cloth-ball).
 #include <oneapi/tbb/task_arena.h>
 
@@ -36,9 +36,9 @@ int main(int argc, char** argv) {
          "how the scene BVH is built: median or sah (default: sah)")
       ->type_name("NAME")
       ->check(parsed_by(parse_bvh_build));
-  app.add_option("--leaf", opt.leaf_size, "triangles per BVH leaf, 1 to 16 (default: 16 with sah, 1 with median)")
+  app.add_option("--leaf", opt.leaf_size, "triangles per BVH leaf, 1 to 21 (default: 21 with sah, 1 with median)")
       ->type_name("K")
-      ->check(integer_in(1, 16));
+      ->check(integer_in(1, 21));
   app.add_option_function<std::string>(
          "--method", [&opt](const std::string& v) { opt.method = parse_method(v.c_str()); },
          "how candidate pairs are found: fbd, phc, traverse or bruteforce (default: fbd)")

@@ -71,9 +71,9 @@ void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Represen
       ->type_name("NAME")
       ->check(CLI::IsMember({"median", "sah"}));
   app.add_option("--leaf-size", leaf_size,
-                 "triangles per BVH leaf, 1 to 16 (default: 16 with sah, 1 with median)")
+                 "triangles per BVH leaf, 1 to 21 (default: 21 with sah, 1 with median)")
       ->type_name("K")
-      ->check(integer_in(1, 16));
+      ->check(integer_in(1, 21));
   app.add_option_function<std::string>(
          "--representatives", [&rule](const std::string& v) { rule = parse_representatives(v.c_str()); },
          "where each vertex-face and edge-edge pair is tested (the same contacts either way): leaf (every "

@@ -30,7 +30,7 @@ CLI::Validator number_in(double lo, double hi, bool lo_open = false);
 
 /// `--method NAME` (bruteforce, traverse, phc, fbd, or its alias front) into `method`.
 CLI::Option* add_method_option(CLI::App& app, Method& method);
-/// `--bvh median|sah`, `--leaf-size K` (1 to 16) and `--representatives default|leaf|canonical`
+/// `--bvh median|sah`, `--leaf-size K` (1 to 21) and `--representatives default|leaf|canonical`
 /// into `bvh`, `leaf_size` and `rule`.
 /// --bvh, --leaf-size, --representatives and --no-self-culling.
 void add_bvh_options(CLI::App& app, BvhBuild& bvh, unsigned& leaf_size, Representatives& rule, bool& self_culling);

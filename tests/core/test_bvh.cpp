@@ -28,7 +28,7 @@ TEST(Bvh, DepthFirstLayoutInvariants) {
     if (n == 100)
       for (auto& p : c) p = Vec3(1, 1, 1);  // all equal: count-median fallback
     for (BvhBuild kind : {BvhBuild::Median, BvhBuild::Sah})
-    for (unsigned leaf_size : {1u, 2u, 3u, 4u, 5u, 8u, 13u, 16u}) {
+    for (unsigned leaf_size : {1u, 2u, 3u, 4u, 5u, 8u, 13u, 16u, 17u, 21u}) {
     BvhTopology b(points(c), kind, leaf_size);
     if (leaf_size == 1) {
       ASSERT_EQ(b.size(), std::size_t(2 * n - 1));

@@ -110,7 +110,7 @@ TEST(SceneMethods, TreesLeafSizesAndRulesAgree) {
   AnimatedScene cloth = make_folding_cloth(24, 16), spheres = make_deforming_spheres(3, 8, 16);
   for (const AnimatedScene* s : {&cloth, &spheres})
     for (BvhBuild b : {BvhBuild::Median, BvhBuild::Sah})
-      for (unsigned leaf : {1u, 2u, 3u, 4u, 8u, 16u}) {
+      for (unsigned leaf : {1u, 2u, 3u, 4u, 8u, 16u, 21u}) {
         SceneOptions opt;
         opt.bvh = b;
         opt.leaf_size = leaf;

@@ -221,7 +221,7 @@ TEST(CliRun, TreesAndRepresentativeRulesPrintTheSameContactTotals) {
   std::string first;
   for (const std::vector<std::string>& extra :
        {std::vector<std::string>{}, {"--representatives", "canonical"}, {"--bvh", "median"},
-        {"--bvh", "median", "--representatives", "leaf", "--leaf-size", "3"}, {"--leaf-size", "16"},
+        {"--bvh", "median", "--representatives", "leaf", "--leaf-size", "3"}, {"--leaf-size", "16"}, {"--leaf-size", "21"},
         {"--no-self-culling"}}) {
     std::vector<std::string> args{"run", "--scene", "spheres", "--size", "1", "--frames", "9", "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
@@ -234,7 +234,7 @@ TEST(CliRun, TreesAndRepresentativeRulesPrintTheSameContactTotals) {
     EXPECT_EQ(totals, first);
   }
   for (const std::vector<std::string>& bad : {std::vector<std::string>{"--representatives", "paper"},
-                                               {"--leaf-size", "17"}, {"--leaf-size", "0"}}) {
+                                               {"--leaf-size", "22"}, {"--leaf-size", "0"}}) {
     std::vector<std::string> args{"run", "--scene", "spheres", "--size", "1", "--frames", "3"};
     args.insert(args.end(), bad.begin(), bad.end());
     const auto r = run_cli(args);
