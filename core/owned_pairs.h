@@ -139,19 +139,21 @@ class OwnedPairs {
       const std::uint32_t sa = fa + static_cast<unsigned>(std::countr_zero(left));
       const Edge& x = owners_.edge_ends(sa);
       std::uint64_t meet = m.edges[sa - fa];
+      if (defer) {  // queued as they come, the volumes tested after the filter
+        for (; meet; meet &= meet - 1) {
+          const std::uint32_t sb = fb + static_cast<unsigned>(std::countr_zero(meet));
+          const Edge& y = owners_.edge_ends(sb);
+          if (shares_end(x, y)) continue;
+          ++tested;
+          tests_.queue_ee_pending(owners_.edge(sa), x, owners_.edge(sb), y, within, a, b, out);
+        }
+        continue;
+      }
       for (std::uint64_t r = meet; r; r &= r - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(r));
         if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
       }
       if (!meet) continue;
-      if (defer) {
-        tested += static_cast<unsigned>(std::popcount(meet));
-        for (; meet; meet &= meet - 1) {
-          const std::uint32_t sb = fb + static_cast<unsigned>(std::countr_zero(meet));
-          tests_.queue_ee_pending(owners_.edge(sa), x, owners_.edge(sb), owners_.edge_ends(sb), within, a, b, out);
-        }
-        continue;
-      }
       Quarters qx;
       swept.edge_quarters_into(sa, qx);
       for (; meet; meet &= meet - 1) {
@@ -200,8 +202,8 @@ class OwnedPairs {
       std::uint64_t meet = m.edges[i] & owners_.apart_edges(sa);
       if (!meet) continue;
       if (defer) {
-        tested += static_cast<unsigned>(std::popcount(meet));
         for (; meet; meet &= meet - 1) {
+          ++tested;
           const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
           tests_.queue_ee_pending(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), 0xF,
                                   leaf, leaf, out);
