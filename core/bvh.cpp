@@ -165,7 +165,8 @@ class Builder {
 
   /// Binned surface area heuristic over the triangles' boxes: for each axis, 32 bins of the
   /// centroid bounds (filled in one pass over the triangles for all three axes); the split
-  /// minimising area(left) * n(left) + area(right) * n(right).
+  /// minimising area(left) * leaves(left) + area(right) * leaves(right), leaves(n) = the
+  /// leaves n triangles make at least (n / max_leaf, rounded up).
   std::size_t split_sah(std::size_t lo, std::size_t hi) {
     constexpr int kBins = 32;  // 16: 1-1.5% more volume tests and leaf pairs on cloth-ball
     Vec3 mn, mx;
@@ -185,6 +186,11 @@ class Builder {
         ++count[axis][b];
       }
     }
+    // A side's cost counts the leaves its triangles will at least make, not the triangles: a
+    // leaf pair costs about the same whatever its leaves' fill, so fuller leaves win
+    // (cloth-ball at 21 triangles a leaf: 14.4 -> 19.5 triangles a leaf, 57 K -> 41 K leaf
+    // pairs; with one triangle a leaf, the classic cost).
+    auto leaves = [&](std::size_t n) { return double((n + max_leaf_ - 1) / max_leaf_); };
     double best = kInf;
     int best_axis = -1, best_bin = 0;
     for (int axis = 0; axis < 3; ++axis) {
@@ -195,14 +201,14 @@ class Builder {
       for (int b = kBins - 1; b > 0; --b) {
         acc.grow(bins[axis][b]);
         n += count[axis][b];
-        right_cost[b] = acc.half_area() * double(n);
+        right_cost[b] = acc.half_area() * leaves(n);
       }
       acc = Box{};
       n = 0;
       for (int b = 0; b + 1 < kBins; ++b) {
         acc.grow(bins[axis][b]);
         n += count[axis][b];
-        const double cost = acc.half_area() * double(n) + right_cost[b + 1];
+        const double cost = acc.half_area() * leaves(n) + right_cost[b + 1];
         if (n > 0 && n < hi - lo && cost < best) best = cost, best_axis = axis, best_bin = b;
       }
     }

@@ -39,7 +39,8 @@ class BvhTopology {
   BvhTopology() = default;
   /// Builds top-down over the triangles. Median (the paper's): split the longest axis of the
   /// centroid bounds at its midpoint. Sah: the binned surface area heuristic over the
-  /// triangles' boxes. When every centroid falls on one side, the range is split in half by
+  /// triangles' boxes, each side's area weighted by the leaves it will at least make (so that
+  /// leaves come out full). When every centroid falls on one side, the range is split in half by
   /// count. A range of at most `max_leaf` (1..21) triangles becomes a leaf.
   /// With `mesh_offsets` (triangle ranges of the meshes, [m, m + 1)), every mesh gets its own
   /// subtree, under a top built over the meshes (split at the median of their centroids along
