@@ -19,7 +19,9 @@ struct StepStats {
   std::uint64_t triangle_tests = 0;
   std::uint64_t feature_box_tests = 0;  ///< feature-pair swept-volume tests before elementary tests
   /// Feature pairs past their volume tests that the coplanarity filter removed before the
-  /// elementary test (geometry/ccd_filter.h).
+  /// elementary test (geometry/ccd_filter.h). Where the pairs' own quarter volumes are tested
+  /// after the filter (SceneOptions::volume_order), also pairs the filter removed whose own
+  /// volumes would not have met.
   std::uint64_t vf_filtered = 0, ee_filtered = 0;
   std::uint64_t vf_tests = 0;           ///< vertex-face elementary tests run
   std::uint64_t ee_tests = 0;           ///< edge-edge elementary tests run

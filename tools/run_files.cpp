@@ -144,7 +144,9 @@ StatsFile::StatsFile(const std::string& path, const RunFacts& facts) : StreamedF
   nlohmann::json f = facts_json("mccd step statistics", facts);
   f["fields"] = "one record per sub-step: contacts; earliest_toi in frame time (null: none); vertices updated and "
                 "BVH nodes refitted; bounding-volume, triangle-pair and feature-pair volume test counts, the pairs the "
-                "coplanarity filter removed (vf_filtered, ee_filtered) and elementary tests run (vf_tests, ee_tests); "
+                "coplanarity filter removed (vf_filtered, ee_filtered; where their own volumes are tested after the "
+                "filter, as at leaves that barely move, also pairs whose volumes would not have met) and elementary tests "
+                "run (vf_tests, ee_tests); "
                 "per-stage elementary test counters; BVTT front size, nodes sprouted and invalidated, rebuilds; orphan "
                 "pairs tested; stage times in s";
   file_.write(json_head(f, "steps"));
