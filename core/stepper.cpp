@@ -275,9 +275,9 @@ template <BoundingVolume BV>
 void Stepper<BV>::self_pairs() {
   if (method_ == Method::BruteForce) return;  // brute force already covers every pair
   const auto t = Clock::now();
-  // Fixed blocks of self units (64 leaves: small scenes still spread over many threads), each
-  // with its own output, joined in block order.
-  constexpr std::size_t kBlock = 64;
+  // Fixed blocks of self units (16 leaves of up to 21 triangles: small scenes still spread
+  // over many threads), each with its own output, joined in block order.
+  constexpr std::size_t kBlock = 16;
   const std::size_t units = leaf_.num_self_units(), n = (units + kBlock - 1) / kBlock;
   if (self_units_.size() < n) self_units_.resize(n);
   auto run = [&](std::size_t b) {
