@@ -4,10 +4,10 @@
 #include <mccd/geometry/large_allocator.h>
 
 #include <algorithm>
-#include <stdexcept>
 #include <array>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>

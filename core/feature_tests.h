@@ -217,12 +217,10 @@ class FeatureTests {
 
  private:
   /// The quarters in which a queued pair's own quarter volumes overlap (VF: the vertex's
-  /// against the face's; EE: edge against edge, each merged from its ends').
+  /// against the face's; EE: edge a's against edge b's).
   unsigned volume_quarters(const QueuedPair& p) const {
-    const std::uint32_t* v = p.ids;
-    if (p.kind == 0) return swept_.vertex_quarters(v[0]).overlap_mask(swept_.face_quarters({v[1], v[2], v[3]}));
-    return Quarters::merged(swept_.vertex_quarters(v[0]), swept_.vertex_quarters(v[1]))
-        .overlap_mask(Quarters::merged(swept_.vertex_quarters(v[2]), swept_.vertex_quarters(v[3])));
+    if (p.kind == 0) return swept_.vertex_quarters(p.a).overlap_mask(swept_.face_quarters({p.ids[1], p.ids[2], p.ids[3]}));
+    return swept_.edge_quarters(p.a).overlap_mask(swept_.edge_quarters(p.b));
   }
 
   /// The narrow phase of a pair past its volume tests, in the quarters `pieces`: the points

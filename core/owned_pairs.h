@@ -13,14 +13,15 @@
 /// what the float ones do not, so they only skip pairs. Each pair they do not separate (a
 /// feature-pair test in the statistics) is tested on the features' float quarter volumes, and
 /// the quarters in which those overlap go with the pair to the narrow phase, queued
-/// (FeatureTests::queue_vf, queue_ee; run by finish()). At leaves that move little against
-/// their edges' lengths (LeafLanes::still; SceneOptions::volume_order), nearly every such pair's
-/// volumes meet, and most pairs are then removed by the coplanarity filter: there a pair is
-/// queued with its leaf pair's quarters and its own volumes are tested after the filter, only
-/// if the filter keeps it (FeatureTests::kVolumesPending; same contacts and elementary tests).
-/// That is the same for every way of
+/// (FeatureTests::queue_vf, queue_ee; run by finish()). That is the same for every way of
 /// reaching the pair (brute force, the canonical rule): a pair's own quarter volumes lie inside
 /// those of its leaves, so testing them first changes nothing.
+///
+/// At leaves that move little against their edges' lengths (LeafLanes::still;
+/// SceneOptions::volume_order) nearly every such pair's volumes meet, and most pairs are then
+/// removed by the coplanarity filter: there a pair is queued with its leaf pair's quarters and
+/// its own volumes are tested after the filter, only if the filter keeps it
+/// (FeatureTests::kVolumesPending; the same contacts and elementary tests).
 #include <bit>
 #include <cstdint>
 
