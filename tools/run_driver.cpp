@@ -3,9 +3,11 @@
 #include <csignal>
 #include <filesystem>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/task_arena.h>
@@ -16,6 +18,7 @@
 #include <mccd/parallel/frame_pipeline.h>
 
 #include "interrupt.h"
+#include "mpi/cluster.h"
 #include "options.h"
 #include "progress.h"
 #include "run_table.h"
@@ -75,7 +78,7 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
   if (st.image.empty() && st.colored.empty()) return;
   if (!snap) {
     snap = Snapshot{0, 0, st.substeps, 0.0, {}};
-    std::printf("no contact to show: the picture is of frame 0\n");
+    if (!st.silent) std::printf("no contact to show: the picture is of frame 0\n");
   }
   std::vector<Positions> start;
   if (snap->step == 0)
@@ -105,9 +108,142 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
   }
 }
 
+
+/// The message tags of a split run: a rank's range of results; rank 0's "all written".
+constexpr int kRangeTag = 3501, kDoneTag = 3502;
+
+static_assert(std::is_trivially_copyable_v<Contact> && std::is_trivially_copyable_v<StepStats>,
+              "a step's result travels between ranks as bytes");
+
+/// Bytes appended and read back in the same order (all ranks run the same build).
+struct WireWriter {
+  std::string bytes;
+  template <class T>
+  void put(const T& v) {
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void put_text(const std::string& s) {
+    put<std::uint64_t>(s.size());
+    bytes += s;
+  }
+};
+
+struct WireReader {
+  const std::string& bytes;
+  std::size_t at = 0;
+  bool done() const { return at >= bytes.size(); }
+  template <class T>
+  T get() {
+    if (at + sizeof(T) > bytes.size()) throw Error("a rank's message ends early");
+    T v;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  }
+  std::string get_text() {
+    const auto n = get<std::uint64_t>();
+    if (at + n > bytes.size()) throw Error("a rank's message ends early");
+    std::string s = bytes.substr(at, n);
+    at += n;
+    return s;
+  }
+};
+
+/// The first step of rank `r`'s range when `steps` are split among `R` ranks.
+std::size_t range_begin(std::size_t steps, int r, int R) { return steps * std::size_t(r) / std::size_t(R); }
+
+/// A rank other than 0 of a split run: steps its range [b, e) from a scene built at frame b
+/// and sends rank 0 the frame it reached, the error that stopped it ("" if none) and every
+/// sub-step's result; then waits for rank 0 to have written everything.
+int run_range(const RunInput& input, const RunSettings& st, Cluster& ranks, std::size_t b, std::size_t e) {
+  WireWriter body;
+  std::string error;
+  std::size_t reached = b;  // frames read, as `next` counts them in run_frames
+  const int K = st.substeps;
+  if (b < e) {
+    try {
+      std::vector<Positions> first;
+      if (b == 0)
+        for (const TriMesh& m : input.meshes) first.push_back(m.vertices);
+      else
+        first = input.frame(b);
+      reached = b + 1;
+      std::vector<TriMesh> meshes = input.meshes;
+      for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].vertices = first[m];
+      tbb::task_arena arena(st.threads);
+      SceneOptions so = st.scene;
+      so.arena = &arena;
+      Scene scene(meshes, so);
+      std::size_t next = b + 1;
+      const FrameSource source = [&](std::vector<Positions>& frame) {
+        if (next > e) return false;
+        try {
+          frame = input.frame(next);
+        } catch (const std::exception& ex) {
+          error = ex.what();
+          return false;
+        }
+        reached = ++next;
+        return true;
+      };
+      const StepSink sink = [&](const PipelineStep& ps) {
+        body.put<std::uint64_t>(b * std::size_t(K) + ps.index);
+        body.put(ps.result.earliest_toi);
+        body.put(ps.result.stats);
+        body.put<std::uint64_t>(ps.result.contacts.size());
+        body.bytes.append(reinterpret_cast<const char*>(ps.result.contacts.data()),
+                          ps.result.contacts.size() * sizeof(Contact));
+      };
+      PipelineOptions po;
+      po.substeps = K;
+      po.method = st.scene.method;
+      arena.execute([&] { run_frame_pipeline(scene, std::move(first), source, sink, po); });
+    } catch (const std::exception& ex) {
+      if (error.empty()) error = ex.what();
+    }
+  }
+  WireWriter head;
+  head.put<std::uint64_t>(reached);
+  head.put_text(error);
+  ranks.send(0, kRangeTag, head.bytes + body.bytes);
+  (void)ranks.recv(0, kDoneTag);
+  return kExitClean;
+}
+
 }  // namespace
 
-int run_frames(const RunInput& input, const RunSettings& st, const std::string& command) {
+namespace {
+
+int run_frames_here(const RunInput& input, const RunSettings& st, const std::string& command, RunReport* report,
+                    Cluster* ranks, bool& gathered);
+
+}  // namespace
+
+int run_frames(const RunInput& input, const RunSettings& st, const std::string& command, RunReport* report,
+               Cluster* ranks) {
+  if (!ranks || ranks->size() == 1) {
+    bool gathered = true;
+    return run_frames_here(input, st, command, report, nullptr, gathered);
+  }
+  // until rank 0 starts waiting for the others, an error is every rank's own (the same input
+  // and options on each): it ends each rank as in one process
+  bool gathered = true;
+  try {
+    return run_frames_here(input, st, command, report, ranks, gathered);
+  } catch (const std::exception& e) {
+    if (gathered) throw;
+    // the other ranks are waiting for rank 0 (or rank 0 for them): stop them all
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s: %s: %s; stopping every rank\n", command.c_str(), ranks->where().c_str(), e.what());
+    ranks->abort(2);
+    throw;
+  }
+}
+
+namespace {
+
+int run_frames_here(const RunInput& input, const RunSettings& st, const std::string& command, RunReport* report,
+                    Cluster* ranks, bool& gathered) {
   const auto wall_start = std::chrono::steady_clock::now();
   if (input.frames < 2) throw Error("need at least two frames, got " + std::to_string(input.frames));
   const std::size_t steps = input.frames - 1;
@@ -129,6 +265,15 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   std::vector<Positions> first;
   for (const TriMesh& m : input.meshes) first.push_back(m.vertices);
   check_min_distance(st.scene.min_distance, first);
+  const int R = ranks ? ranks->size() : 1;
+  if (R > 1 && ranks->rank() != 0) {
+    const int r = ranks->rank();
+    return run_range(input, st, *ranks, range_begin(steps, r, R), range_begin(steps, r + 1, R));
+  }
+  // rank 0 steps frames 0 to `last` (all of them in one process); from here on the other
+  // ranks wait for it, and it for them
+  if (R > 1) gathered = false;
+  const std::size_t last = R > 1 ? range_begin(steps, 1, R) : steps;
 
   tbb::task_arena arena(st.threads);
   SceneOptions so = st.scene;
@@ -138,7 +283,7 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   std::optional<std::vector<Positions>> frame1;
   std::string frame1_error;
   tbb::task_group prefetch;
-  if (input.frames > 1)
+  if (last >= 1)
     arena.execute([&] {
       prefetch.run([&] {
         try {
@@ -157,12 +302,16 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   arena.execute([&] { prefetch.wait(); });
   std::size_t nv = 0, nf = 0;
   for (const TriMesh& m : input.meshes) nv += m.num_vertices(), nf += m.num_faces();
+  if (report) report->frames = input.frames, report->triangles = nf;
+  if (!st.silent) {
   std::printf("%s: %zu frames, %s vertices, %s triangles%s; method %s, %d thread%s", input.description.c_str(),
               input.frames, grouped(nv).c_str(), grouped(nf).c_str(),
               input.meshes.size() > 1 ? (" in " + std::to_string(input.meshes.size()) + " meshes").c_str() : "",
               to_string(st.scene.method), st.threads, st.threads == 1 ? "" : "s");
   if (K > 1) std::printf(", %d sub-steps per step", K);
+  if (R > 1) std::printf("; %d ranks, each stepping its own range of frames", R);
   std::printf("\n");
+  }
 
   const RunFacts facts{input.description, input.frames, K, to_string(st.scene.method), st.scene.min_distance};
   Outputs out;
@@ -196,7 +345,7 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   std::size_t next = 1;
   std::string source_error;
   const FrameSource source = [&](std::vector<Positions>& frame) {
-    if (next >= input.frames) return false;
+    if (next > last) return false;
     try {
       if (next == 1 && !frame1_error.empty()) throw Error(frame1_error);
       frame = next == 1 && frame1 ? std::move(*frame1) : input.frame(next);
@@ -224,6 +373,33 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   po.method = st.scene.method;
   try {
     arena.execute([&] { run_frame_pipeline(scene, first, source, sink, po); });
+    if (R > 1) {
+      // the other ranks' ranges, in frame order: replayed through the same sink; after a range
+      // that stopped early, the later ones are received and dropped
+      for (int r = 1; r < R; ++r) {
+        const std::string bytes = ranks->recv(r, kRangeTag);
+        if (!source_error.empty()) continue;
+        WireReader in{bytes};
+        const auto reached = in.get<std::uint64_t>();
+        const std::string error = in.get_text();
+        while (!in.done()) {
+          PipelineStep ps;
+          ps.index = in.get<std::uint64_t>();
+          ps.result.earliest_toi = in.get<double>();
+          ps.result.stats = in.get<StepStats>();
+          ps.result.contacts.resize(in.get<std::uint64_t>());
+          for (Contact& c : ps.result.contacts) c = in.get<Contact>();
+          sink(ps);
+        }
+        if (!error.empty()) {
+          source_error = error;
+          next = reached;
+          std::fprintf(stderr, "%s: rank %d of %d: %s\n", command.c_str(), r, R, error.c_str());
+        }
+      }
+      for (int r = 1; r < R; ++r) ranks->send(r, kDoneTag, std::string());
+      gathered = true;
+    }
   } catch (const std::exception& e) {
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     bar.erase();
@@ -233,13 +409,14 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   }
   bar.erase();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (report) report->totals = totals, report->wall_seconds = wall;
   if (!source_error.empty()) {
     {
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       std::fflush(stdout);
       out.stop(st.partial, source_error, steps_done, command);
     }
-    print_summary(totals, next, to_string(st.scene.method), st.threads, wall);
+    if (!st.silent) print_summary(totals, next, to_string(st.scene.method), st.threads, wall);
     std::fflush(stdout);
     throw Error(source_error);
   }
@@ -247,9 +424,11 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     for (StreamedFile* f : out.files()) f->finish(steps, summary_json(totals, wall));
   }
-  print_summary(totals, input.frames, to_string(st.scene.method), st.threads, wall);
+  if (!st.silent) print_summary(totals, input.frames, to_string(st.scene.method), st.threads, wall);
   write_pictures(input, st, picker.chosen());
   return totals.vf + totals.ee > 0 && !st.exit_zero ? kExitFound : kExitClean;
 }
+
+}  // namespace
 
 }  // namespace mccd::cli

@@ -19,6 +19,7 @@
 #include <mccd/geometry/mesh.h>
 
 #include "run_files.h"
+#include "run_table.h"
 
 namespace mccd::cli {
 
@@ -45,12 +46,33 @@ struct RunSettings {
   int image_width = 1200, image_height = 900;
   std::string camera;           ///< "EX,EY,EZ[,TX,TY,TZ[,UX,UY,UZ]]" or "" for automatic
   std::optional<Vec3> up;       ///< the scene's up direction when known (else guessed, see up_axis())
+  bool silent = false;          ///< print nothing on stdout (`mccd batch` prints its own lines)
 };
+
+/// What a run found, for `mccd batch`'s summary (filled as far as the run got, also when it
+/// throws).
+struct RunReport {
+  std::size_t frames = 0, triangles = 0;
+  RunTotals totals;
+  double wall_seconds = 0;
+};
+
+class Cluster;
 
 /// Runs `input` with `settings`; prints the table (unless quiet) and the summary. Returns the
 /// exit status: 0 no contact, 1 contacts found (0 with exit_zero). Throws mccd::Error (status
 /// 2) for refused input, after keeping or removing the files of the finished steps.
-/// `command` names the command in messages ("mccd run").
-int run_frames(const RunInput& input, const RunSettings& settings, const std::string& command);
+/// `command` names the command in messages ("mccd run"). `report`, if given, receives the
+/// totals.
+///
+/// With `ranks` of more than one process (mpirun, srun), the frame intervals are split among
+/// them in contiguous ranges of (nearly) equal numbers of steps: each rank builds its own scene
+/// at its range's first frame, on its own arena of `settings.threads` threads, and sends its
+/// steps' results to rank 0, which alone prints and writes them, in frame order, as one process
+/// would (a step's contacts depend only on its two frames; the statistics of the front and of
+/// the hierarchy at each range's first step differ, and the times). Ranks other than 0 print
+/// nothing and return 0; rank 0 returns the run's status or throws.
+int run_frames(const RunInput& input, const RunSettings& settings, const std::string& command,
+               RunReport* report = nullptr, Cluster* ranks = nullptr);
 
 }  // namespace mccd::cli
