@@ -46,6 +46,10 @@ inline nlohmann::json without_times(nlohmann::json j) {
   j.erase("wall_seconds");
   j.erase("step_seconds");
   j.erase("input");
+  if (j.contains("summary")) {
+    j["summary"].erase("wall_seconds");
+    j["summary"].erase("step_seconds");
+  }
   if (j.contains("steps") && j["steps"].is_array())
     for (auto& s : j["steps"]) s.erase("seconds");
   return j;

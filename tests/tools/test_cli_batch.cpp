@@ -19,7 +19,11 @@ namespace {
 /// Splits a CSV line without quoted commas.
 std::vector<std::string> fields(const std::string& line) {
   std::vector<std::string> out(1);
-  for (char c : line) c == ',' ? out.emplace_back() : out.back().push_back(c);
+  for (char c : line)
+    if (c == ',')
+      out.emplace_back();
+    else
+      out.back().push_back(c);
   return out;
 }
 
@@ -71,7 +75,7 @@ TEST(CliBatch, SameFilesAsRunAndASummaryThatMarksTheBrokenSequence) {
     EXPECT_EQ(f[2], i == 3 ? "failed" : "ok") << rows[i + 1];
     EXPECT_EQ(f[3], std::to_string(seqs[i].frames));
     EXPECT_EQ(f[5], std::to_string(i == 3 ? 3 : seqs[i].frames - 1));  // steps before the broken frame
-    EXPECT_NE(f[7], "0");  // every folding cloth has contacts
+    if (i != 3) EXPECT_NE(f[7], "0");  // every folding cloth has contacts by its end
     EXPECT_EQ(f[10], "0");  // one process: rank 0
     if (i == 3) EXPECT_NE(rows[i + 1].find("frame004.ply"), std::string::npos);
   }
