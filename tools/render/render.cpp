@@ -137,7 +137,9 @@ Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int widt
   const View view(camera, w, h);
   Buffers buf(w, h);
   draw(meshes, view, buf);
-  std::vector<Rgb> colour;
+  // per face: its colour, and its colour with a highlighted triangle behind it (the mix
+  // shaded like the surface, so that it reads as a shade of the legend's swatch)
+  std::vector<Rgb> colour, colour_behind;
   std::vector<std::uint8_t> face_lit;
   std::vector<std::uint32_t> face_mesh;
   if (use) *use = RenderUse{std::vector<std::size_t>(meshes.size()), 0, std::vector<std::size_t>(meshes.size()), 0};
@@ -151,6 +153,7 @@ Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int widt
       n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(-view.forward);
       const bool lit = mesh.highlight[f] != 0;
       colour.push_back(shade(lit ? kHighlight : base, n, view, (a + b + c) / 3));
+      colour_behind.push_back(shade(mix_behind(base), n, view, (a + b + c) / 3));
       face_lit.push_back(lit);
       face_mesh.push_back(std::uint32_t(m));
     }
@@ -171,9 +174,8 @@ Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int widt
             const float g = 0.97f - 0.12f * float(Y) / float(h);
             c = {g, g, g + 0.01f};
           } else {
-            c = colour[std::size_t(id)];
             const bool lit = face_lit[std::size_t(id)] != 0, behind = !lit && buf.lit_inv_depth[at] > 0;
-            if (behind) c = mix_behind(c);
+            c = behind ? colour_behind[std::size_t(id)] : colour[std::size_t(id)];
             // outline: the depth of a neighbour differs a lot, or it is background
             const float z = 1.f / buf.inv_depth[at];
             bool outlined = false;

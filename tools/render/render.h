@@ -2,8 +2,8 @@
 /// @file Headless rendering for `mccd run --image`: a small z-buffer rasteriser, 2x2
 /// supersampled, flat shaded with a two-sided light from the camera, dark outlines where depth
 /// jumps. Surfaces are grey-blue (one hue per mesh), highlighted triangles red; highlighted
-/// triangles hidden behind others show through as a faint red, so that a contact inside a
-/// fold stays visible.
+/// triangles hidden behind others show through as a faint red (the surface's hue mixed with
+/// red, then shaded), so that a contact inside a fold stays visible.
 #include <vector>
 
 #include "render/camera.h"
