@@ -1,7 +1,6 @@
 #include "run_table.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
@@ -36,6 +35,11 @@ std::string FrameNames::frame(std::size_t i) const {
 std::string FrameNames::frames(std::size_t a, std::size_t b) const {
   if (named()) return frame(a) + " to " + frame(b);
   return "frames " + std::to_string(a) + " to " + std::to_string(b);
+}
+
+std::string FrameNames::step(std::size_t k) const {
+  if (named()) return frames(k, k + 1);
+  return "frame " + std::to_string(k) + " to " + std::to_string(k + 1);
 }
 
 std::string FrameNames::key(std::size_t frames) const {

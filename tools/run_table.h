@@ -1,6 +1,7 @@
 #pragma once
 /// @file What `mccd run` prints: one row per step (a frame interval, its sub-steps taken
-/// together), the legend of the --verbose columns, and the summary at the end.
+/// together), the legend (the frames' files; the --verbose columns), and the summary at the end,
+/// which names the steps by their files and says where and why a run stopped early.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -54,7 +55,7 @@ class FrameNames {
   /// Frames a to b: "frame000.ply to frame005.ply", or "frames 0 to 5".
   std::string frames(std::size_t a, std::size_t b) const;
   /// The step from frame k to k + 1: "cloth_ball92.ply to cloth_ball93.ply", or "frame 3 to 4".
-  std::string step(std::size_t k) const { return named() ? frames(k, k + 1) : "frame " + std::to_string(k) + " to " + std::to_string(k + 1); }
+  std::string step(std::size_t k) const;
   /// Whether frames are named by files.
   bool named() const { return !names_.empty(); }
   /// The frames' files by number, for the table's legend: "frame 0 = a.ply, frame 1 = b.ply"
