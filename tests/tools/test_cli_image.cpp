@@ -222,6 +222,10 @@ TEST(CliImage, FormatByExtension) {
                          ": expected a .png (PNG) or .jpg / .jpeg (JPEG) file name\n");
     EXPECT_EQ(r.out, "") << name;  // refused before the first step
   }
+  // the coloured mesh is a PLY, and only a .ply name is taken for it
+  const auto r = run_cli({"run", "--scene", "cloth", "--size", "1", "--frames", "6", "--colored", dir.file("m.obj")});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "mccd run: error: --colored " + dir.file("m.obj") + ": expected a .ply file name\n");
   EXPECT_EQ(dir.names(), (std::vector<std::string>{"p.jpg", "q.JPEG", "r.png"}));
 }
 
