@@ -2,6 +2,8 @@
 // contacts of every step; see run_driver.h for how, and `mccd run --help` for every option.
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
@@ -87,7 +89,8 @@ const Command reg(
           ->check(integer_in(2, 5000));
       add_engine_options(app, a->settings);
       add_file_options(app, a->settings);
-      add_picture_options(app, a->settings, "");
+      add_picture_options(app, a->settings,
+                          "the first contact (the earliest impact of the first sub-step with contacts)", "");
       add_display_options(app, a->settings);
       app.footer(
           about + "\n\nExit status: 0 no collision, 1 collisions found (like diff or grep; --exit-zero gives 0), 2 usage or "

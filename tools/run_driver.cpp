@@ -1,5 +1,6 @@
 #include "run_driver.h"
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <cstdio>
@@ -57,6 +58,10 @@ struct Outputs {
   }
 };
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
 }
@@ -73,9 +78,32 @@ nlohmann::json summary_json(const RunTotals& t, double wall) {
             {"wall_seconds", wall}}}};
 }
 
+/// The caption of the picture of `snap`: what was run; the step (its frames), the sub-step
+/// (whose contacts are shown) and the frame time; the contacts shown.
+std::vector<std::string> caption(const RunInput& input, const FrameNames& names, const Snapshot& snap, bool any,
+                                 std::size_t highlighted) {
+  std::string when = "step " + std::to_string(snap.step) + " (" + names.step(snap.step) + ")";
+  if (snap.substeps > 1)
+    when += ", sub-step " + std::to_string(snap.substep + 1) + " of " + std::to_string(snap.substeps) + ",";
+  when += " at frame time " + impact_text(frame_time(snap.step, snap.substep, snap.substeps, snap.t));
+  std::string what;
+  if (!any) {
+    what = "no contact in the run: its first frame is shown";
+  } else if (snap.contacts.empty()) {
+    what = "no contact in this step: its start is shown";
+  } else {
+    std::size_t vf = 0;
+    for (const Contact& c : snap.contacts) vf += c.kind == ContactKind::VertexFace;
+    what = "contacts shown: " + grouped(snap.contacts.size()) + " (" + grouped(vf) + " vertex-face, " +
+           grouped(snap.contacts.size() - vf) + " edge-edge), " + grouped(highlighted) + " triangles highlighted";
+  }
+  return {input.description, when, what};
+}
+
 /// Draws the picture and the coloured mesh of the chosen moment.
-void write_pictures(const RunInput& input, const RunSettings& st, std::optional<Snapshot> snap) {
+void write_pictures(const RunInput& input, const RunSettings& st, const FrameNames& names, std::optional<Snapshot> snap) {
   if (st.image.empty() && st.colored.empty()) return;
+  const bool any = snap.has_value();
   if (!snap) {
     snap = Snapshot{0, 0, st.substeps, 0.0, {}};
     if (!st.silent) std::printf("no contact to show: the picture is of frame 0\n");
@@ -93,13 +121,16 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
                            impact_text(frame_time(snap->step, snap->substep, snap->substeps, snap->t)) + ", " +
                            grouped(highlighted_faces(view)) + " triangles highlighted";
   if (!st.image.empty()) {
-    const Image image = render_snapshot(view, st.image_width, st.image_height, camera);
+    bool keyed = false;
+    const Image image = render_snapshot(view, st.image_width, st.image_height, camera,
+                                        caption(input, names, *snap, any, highlighted_faces(view)), &keyed);
     {
       // a signal waits for the file to be complete, so that no temporary is left behind
       std::lock_guard<std::mutex> lock(interrupt_mutex());
-      write_png(st.image, image);
+      write_image(st.image, image);
     }
-    std::printf("picture: %s (%s)\n", st.image.c_str(), when.c_str());
+    std::printf("picture: %s (%s%s)\n", st.image.c_str(), when.c_str(),
+                keyed ? "" : "; no caption or legend: too small for them");
   }
   if (!st.colored.empty()) {
     std::lock_guard<std::mutex> lock(interrupt_mutex());
@@ -262,6 +293,8 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
   }
   if (!st.contacts.empty()) check_extension("--contacts", st.contacts, {".csv", ".json"});
   if (!st.stats.empty()) check_extension("--stats", st.stats, {".json"});
+  if (!st.image.empty()) (void)image_format("--image", st.image);
+  if (!st.colored.empty()) check_extension("--colored", st.colored, {".ply"});
   std::vector<Positions> first;
   for (const TriMesh& m : input.meshes) first.push_back(m.vertices);
   check_min_distance(st.scene.min_distance, first);
@@ -320,8 +353,9 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
 
   ProgressBar bar(!st.quiet && ProgressBar::stderr_is_terminal(), steps);
   const RunTable table(st.verbose);
+  const FrameNames names = input.frame_files.empty() ? FrameNames() : FrameNames(input.frame_files);
   if (!st.quiet) {
-    table.print_legend();
+    table.print_legend(names, input.frames);
     table.print_header();
   }
   StepAccumulator acc(K);
@@ -401,14 +435,21 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
       gathered = true;
     }
   } catch (const std::exception& e) {
-    std::lock_guard<std::mutex> lock(interrupt_mutex());
-    bar.erase();
+    {
+      std::lock_guard<std::mutex> lock(interrupt_mutex());
+      bar.erase();
+      std::fflush(stdout);
+      out.stop(st.partial, e.what(), steps_done, command);
+    }
+    // the steps are handed over in order: the one after the last finished is where it failed
+    const RunStop stop{steps, steps_done, e.what()};
+    if (report) report->totals = totals, report->wall_seconds = seconds_since(wall_start);
+    if (!st.silent) print_summary(totals, names, to_string(st.scene.method), st.threads, seconds_since(wall_start), &stop);
     std::fflush(stdout);
-    out.stop(st.partial, e.what(), steps_done, command);
     throw;
   }
   bar.erase();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  const double wall = seconds_since(wall_start);
   if (report) report->totals = totals, report->wall_seconds = wall;
   if (!source_error.empty()) {
     {
@@ -416,7 +457,9 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
       std::fflush(stdout);
       out.stop(st.partial, source_error, steps_done, command);
     }
-    if (!st.silent) print_summary(totals, next, to_string(st.scene.method), st.threads, wall);
+    // frame `next` could not be read: every step before the one ending there has finished
+    const RunStop stop{steps, next - 1, source_error};
+    if (!st.silent) print_summary(totals, names, to_string(st.scene.method), st.threads, wall, &stop);
     std::fflush(stdout);
     throw Error(source_error);
   }
@@ -424,8 +467,8 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     for (StreamedFile* f : out.files()) f->finish(steps, summary_json(totals, wall));
   }
-  if (!st.silent) print_summary(totals, input.frames, to_string(st.scene.method), st.threads, wall);
-  write_pictures(input, st, picker.chosen());
+  if (!st.silent) print_summary(totals, names, to_string(st.scene.method), st.threads, wall);
+  write_pictures(input, st, names, picker.chosen());
   return totals.vf + totals.ee > 0 && !st.exit_zero ? kExitFound : kExitClean;
 }
 

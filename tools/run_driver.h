@@ -26,6 +26,9 @@ namespace mccd::cli {
 /// What is run: meshes (triangles, and the positions of frame 0) and a way to get frame i.
 struct RunInput {
   std::string description;  ///< "cloth_ball92.ply .. cloth_ball93.ply", "built-in scene cloth"
+  /// The file of each frame when they come from files (the summary names steps by them);
+  /// empty: frames are named by number.
+  std::vector<std::string> frame_files;
   std::vector<TriMesh> meshes;
   std::size_t frames = 0;   ///< at least 2
   /// The positions of frame i (one array per mesh), 0 <= i < frames. May throw mccd::Error
@@ -61,7 +64,8 @@ class Cluster;
 
 /// Runs `input` with `settings`; prints the table (unless quiet) and the summary. Returns the
 /// exit status: 0 no contact, 1 contacts found (0 with exit_zero). Throws mccd::Error (status
-/// 2) for refused input, after keeping or removing the files of the finished steps.
+/// 2) for refused input, after keeping or removing the files of the finished steps; when it
+/// stops after the first step began, the summary printed first says where and why.
 /// `command` names the command in messages ("mccd run"). `report`, if given, receives the
 /// totals.
 ///

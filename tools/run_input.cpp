@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include <mccd/geometry/error.h>
@@ -60,12 +62,16 @@ RunInput input_from_files(const std::vector<std::string>& given) {
   std::error_code ec;
   const bool folder = given.size() == 1 && std::filesystem::is_directory(given[0], ec);
   const std::vector<std::string> paths = sequence_paths(given);
+  // a path that is not there is named as such before anything is counted or read
+  for (const std::string& p : paths)
+    if (!std::filesystem::exists(p, ec)) throw Error(p + ": cannot open: " + std::strerror(ENOENT));
   if (paths.size() < 2)
     throw Error("need at least two frames, got " + std::to_string(paths.size()) + " (" + paths.front() + ")");
   RunInput in;
   in.description = given.size() == 1 && !folder ? given[0]
                                       : std::filesystem::path(paths.front()).filename().string() + " .. " +
                                             std::filesystem::path(paths.back()).filename().string();
+  in.frame_files = paths;
   in.meshes.push_back(read_mesh(paths[0]));
   in.frames = paths.size();
   const TriMesh& first = in.meshes[0];
