@@ -329,8 +329,9 @@ int run(BatchArgs& a) {
     });
   for (std::size_t k; (k = next++) < n;) record(order[k], run_sequence(a, seqs[order[k]], 0));
   if (dispatcher.joinable()) dispatcher.join();
-  write_summary(a, seqs, outs);
+  // the others may finish first: nothing they wait for can fail after this
   for (int r = 1; r < R; ++r) ranks.send(r, kDoneTag, std::string());
+  write_summary(a, seqs, outs);
 
   std::size_t failed = 0, found = 0;
   for (const Outcome& o : outs) failed += o.status != "ok", found += o.contacts > 0;
