@@ -245,7 +245,8 @@ void write_summary(const BatchArgs& a, const std::vector<Sequence>& seqs, const 
                                         std::to_string(o.rank),
                                         o.error};
     for (std::size_t k = 0; k < f.size(); ++k) {
-      csv += (k ? "," : "") + csv_field(f[k]);
+      if (k) csv += ',';
+      csv += csv_field(f[k]);  // appended in pieces: GCC 12's -Wrestrict misfires on "..." + string&&
       md += "| " + md_field(f[k]) + " ";
     }
     csv += "\n";
