@@ -1,29 +1,21 @@
 // `mccd run FRAMES...`: steps through frame files (or a built-in scene) and reports the
 // contacts of every step; see run_driver.h for how, and `mccd run --help` for every option.
-#include <algorithm>
-#include <cctype>
-#include <filesystem>
 #include <memory>
 
 #include <CLI/App.hpp>
 
 #include <mccd/geometry/error.h>
-#include <mccd/geometry/mesh_io.h>
 
 #include "command.h"
-#include "fixtures/scenes.h"
 #include "options.h"
 #include "run_driver.h"
+#include "run_input.h"
 #include "run_options.h"
 
 namespace {
 
 using namespace mccd;
 using namespace mccd::cli;
-
-/// Built-in scenes are held in memory: their size in thousands of triangles times their
-/// frame count is bounded so that they fit (about 12 kB per thousand triangles and frame).
-constexpr long kMaxSizeTimesFrames = 20000;
 
 struct RunArgs {
   std::vector<std::string> frames;
@@ -32,82 +24,11 @@ struct RunArgs {
   RunSettings settings;
 };
 
-/// "frame2" < "frame10": digit runs compared as numbers, the rest as text.
-bool natural_less(const std::string& a, const std::string& b) {
-  std::size_t i = 0, j = 0;
-  while (i < a.size() && j < b.size()) {
-    if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
-      std::size_t i2 = i, j2 = j;
-      while (i2 < a.size() && std::isdigit(static_cast<unsigned char>(a[i2]))) ++i2;
-      while (j2 < b.size() && std::isdigit(static_cast<unsigned char>(b[j2]))) ++j2;
-      std::string x = a.substr(i, i2 - i), y = b.substr(j, j2 - j);
-      x.erase(0, std::min(x.find_first_not_of('0'), x.size()));
-      y.erase(0, std::min(y.find_first_not_of('0'), y.size()));
-      if (x.size() != y.size()) return x.size() < y.size();
-      if (x != y) return x < y;
-      i = i2, j = j2;
-    } else {
-      if (a[i] != b[j]) return a[i] < b[j];
-      ++i, ++j;
-    }
-  }
-  return a.size() - i < b.size() - j;
-}
-
-/// The mesh files (.ply, .obj) of a folder, in natural order of their names.
-std::vector<std::string> folder_frames(const std::filesystem::path& dir) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    std::string ext = it->path().extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (it->is_regular_file() && (ext == ".ply" || ext == ".obj")) out.push_back(it->path().string());
-  }
-  if (ec) throw Error(dir.string() + ": cannot list: " + ec.message());
-  std::sort(out.begin(), out.end(), natural_less);
-  if (out.empty()) throw Error(dir.string() + ": no .ply or .obj frames in this folder");
-  return out;
-}
-
-RunInput input_from_files(const std::vector<std::string>& given) {
-  std::error_code ec;
-  const bool folder = given.size() == 1 && std::filesystem::is_directory(given[0], ec);
-  const std::vector<std::string> paths = folder ? folder_frames(given[0]) : frame_paths(given);
-  if (paths.size() < 2)
-    throw Error("need at least two frames, got " + std::to_string(paths.size()) + " (" + paths.front() + ")");
-  RunInput in;
-  in.description = given.size() == 1 && !folder ? given[0]
-                                      : std::filesystem::path(paths.front()).filename().string() + " .. " +
-                                            std::filesystem::path(paths.back()).filename().string();
-  in.meshes.push_back(read_mesh(paths[0]));
-  in.frames = paths.size();
-  const TriMesh& first = in.meshes[0];
-  in.frame = [paths, &first](std::size_t i) {
-    if (i == 0) return std::vector<Positions>{first.vertices};
-    return std::vector<Positions>{read_frame(paths[i], i, first, paths[0])};
-  };
-  return in;
-}
-
-RunInput input_from_scene(const RunArgs& a) {
-  if ((long)a.size * a.frame_count > kMaxSizeTimesFrames)
-    throw Error("--size " + std::to_string(a.size) + " with --frames " + std::to_string(a.frame_count) +
-                ": a built-in scene is held in memory, so --size times --frames may be at most " +
-                std::to_string(kMaxSizeTimesFrames));
-  auto scene = std::make_shared<AnimatedScene>(make_scene(a.scene, a.size, a.frame_count));
-  RunInput in;
-  in.description = "built-in scene " + scene->name;
-  in.meshes = scene->meshes;
-  in.frames = scene->frames.size();
-  in.frame = [scene](std::size_t i) { return scene->frames.at(i); };
-  return in;
-}
-
 int run(RunArgs& a) {
   if (!a.scene.empty() && !a.frames.empty()) throw Error("give either frame files or --scene, not both");
   if (a.scene.empty() && a.frames.empty())
     throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene NAME)");
-  const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a);
+  const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a.scene, a.size, a.frame_count);
   return run_frames(input, a.settings, "mccd run");
 }
 

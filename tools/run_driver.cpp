@@ -40,11 +40,14 @@ struct Outputs {
     if (contacts) contacts->add(step, substep, r);
     if (stats) stats->add(step, substep, r);
   }
-  /// After an error or a signal: keeps (marked incomplete) or removes each file, and says so.
-  void stop(Partial partial, const std::string& why, std::size_t steps, const std::string& command) noexcept {
+  /// After an error or a signal: keeps (marked incomplete) or removes each file, and says so
+  /// on stderr (unless silent).
+  void stop(Partial partial, const std::string& why, std::size_t steps, const std::string& command,
+            bool silent) noexcept {
     for (StreamedFile* f : files()) {
       if (f->done()) continue;
       f->stop(partial, why, steps);
+      if (silent) continue;
       if (partial == Partial::Keep)
         std::fprintf(stderr, "%s: %s keeps the %zu finished step%s, marked incomplete\n", command.c_str(),
                      f->path().c_str(), steps, steps == 1 ? "" : "s");
@@ -75,7 +78,7 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
   if (st.image.empty() && st.colored.empty()) return;
   if (!snap) {
     snap = Snapshot{0, 0, st.substeps, 0.0, {}};
-    std::printf("no contact to show: the picture is of frame 0\n");
+    if (!st.silent) std::printf("no contact to show: the picture is of frame 0\n");
   }
   std::vector<Positions> start;
   if (snap->step == 0)
@@ -96,12 +99,12 @@ void write_pictures(const RunInput& input, const RunSettings& st, std::optional<
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       write_png(st.image, image);
     }
-    std::printf("picture: %s (%s)\n", st.image.c_str(), when.c_str());
+    if (!st.silent) std::printf("picture: %s (%s)\n", st.image.c_str(), when.c_str());
   }
   if (!st.colored.empty()) {
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     write_snapshot_ply(st.colored, view);
-    std::printf("coloured mesh: %s (%s)\n", st.colored.c_str(), when.c_str());
+    if (!st.silent) std::printf("coloured mesh: %s (%s)\n", st.colored.c_str(), when.c_str());
   }
 }
 
@@ -157,21 +160,24 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
   arena.execute([&] { prefetch.wait(); });
   std::size_t nv = 0, nf = 0;
   for (const TriMesh& m : input.meshes) nv += m.num_vertices(), nf += m.num_faces();
-  std::printf("%s: %zu frames, %s vertices, %s triangles%s; method %s, %d thread%s", input.description.c_str(),
-              input.frames, grouped(nv).c_str(), grouped(nf).c_str(),
-              input.meshes.size() > 1 ? (" in " + std::to_string(input.meshes.size()) + " meshes").c_str() : "",
-              to_string(st.scene.method), st.threads, st.threads == 1 ? "" : "s");
-  if (K > 1) std::printf(", %d sub-steps per step", K);
-  std::printf("\n");
+  if (!st.silent) {
+    std::printf("%s: %zu frames, %s vertices, %s triangles%s; method %s, %d thread%s", input.description.c_str(),
+                input.frames, grouped(nv).c_str(), grouped(nf).c_str(),
+                input.meshes.size() > 1 ? (" in " + std::to_string(input.meshes.size()) + " meshes").c_str() : "",
+                to_string(st.scene.method), st.threads, st.threads == 1 ? "" : "s");
+    if (K > 1) std::printf(", %d sub-steps per step", K);
+    std::printf("\n");
+  }
 
   const RunFacts facts{input.description, input.frames, K, to_string(st.scene.method), st.scene.min_distance};
   Outputs out;
   if (!st.contacts.empty()) out.contacts = std::make_unique<ContactsFile>(st.contacts, facts, input.meshes);
   if (!st.stats.empty()) out.stats = std::make_unique<StatsFile>(st.stats, facts);
 
-  ProgressBar bar(!st.quiet && ProgressBar::stderr_is_terminal(), steps);
+  const bool quiet = st.quiet || st.silent;
+  ProgressBar bar(!quiet && ProgressBar::stderr_is_terminal(), steps);
   const RunTable table(st.verbose);
-  if (!st.quiet) {
+  if (!quiet) {
     table.print_legend();
     table.print_header();
   }
@@ -188,7 +194,7 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     out.stop(st.partial,
              std::string("interrupted by ") + signal_name(sig) + " after " + std::to_string(steps_done) + " of " +
                  std::to_string(steps) + " steps",
-             steps_done, command);
+             steps_done, command, st.silent);
   });
 
   // A frame that cannot be read ends the sequence there, so that every step before it is
@@ -215,7 +221,8 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     if (acc.add(k, j, ps.result)) {
       totals.add(acc.row());
       steps_done = k + 1;
-      if (!st.quiet) bar.print_above([&] { table.print_row(acc.row()); });
+      if (!quiet) bar.print_above([&] { table.print_row(acc.row()); });
+      if (st.on_step) st.on_step(acc.row());
     }
     bar.update(double(k) + double(j + 1) / K, totals.vf + totals.ee);
   };
@@ -228,7 +235,7 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     bar.erase();
     std::fflush(stdout);
-    out.stop(st.partial, e.what(), steps_done, command);
+    out.stop(st.partial, e.what(), steps_done, command, st.silent);
     throw;
   }
   bar.erase();
@@ -237,9 +244,9 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     {
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       std::fflush(stdout);
-      out.stop(st.partial, source_error, steps_done, command);
+      out.stop(st.partial, source_error, steps_done, command, st.silent);
     }
-    print_summary(totals, next, to_string(st.scene.method), st.threads, wall);
+    if (!st.silent) print_summary(totals, next, to_string(st.scene.method), st.threads, wall);
     std::fflush(stdout);
     throw Error(source_error);
   }
@@ -247,7 +254,7 @@ int run_frames(const RunInput& input, const RunSettings& st, const std::string& 
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     for (StreamedFile* f : out.files()) f->finish(steps, summary_json(totals, wall));
   }
-  print_summary(totals, input.frames, to_string(st.scene.method), st.threads, wall);
+  if (!st.silent) print_summary(totals, input.frames, to_string(st.scene.method), st.threads, wall);
   write_pictures(input, st, picker.chosen());
   return totals.vf + totals.ee > 0 && !st.exit_zero ? kExitFound : kExitClean;
 }

@@ -19,6 +19,7 @@
 #include <mccd/geometry/mesh.h>
 
 #include "run_files.h"
+#include "run_table.h"
 
 namespace mccd::cli {
 
@@ -45,6 +46,13 @@ struct RunSettings {
   int image_width = 1200, image_height = 900;
   std::string camera;           ///< "EX,EY,EZ[,TX,TY,TZ[,UX,UY,UZ]]" or "" for automatic
   std::optional<Vec3> up;       ///< the scene's up direction when known (else guessed, see up_axis())
+  /// Called with each finished step's row, in step order, one call at a time (from whichever
+  /// thread finished the step). It may throw to stop the run: the files of the finished steps
+  /// are then kept or removed as `partial` says and the exception is rethrown.
+  std::function<void(const StepRow&)> on_step;
+  /// Print nothing on stdout (no header, table, summary or picture lines) and draw no progress
+  /// bar: for callers that report for themselves (the Python module, through on_step).
+  bool silent = false;
 };
 
 /// Runs `input` with `settings`; prints the table (unless quiet) and the summary. Returns the

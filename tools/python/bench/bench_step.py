@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""A cloth-ball step through Python against the same step through C++, side by side.
+
+Each round times one step both ways on the same scene and the same arrays, in alternating
+order (Python first in even rounds, C++ first in odd ones):
+  - Python: `r = scene.step([V0], [V1]); del r` timed with time.perf_counter() around the call
+    (argument checks, the views, the GIL released and taken back, the step, the contacts
+    array and the stats dict, and dropping the result);
+  - C++: `scene._time_cpp_step([V0], [V1])`, the same Scene::step timed inside C++ with
+    std::chrono::steady_clock (its views made before the clock starts, the result destroyed
+    before it stops).
+Two regimes: `kept` steps one scene again and again (the front kept from the last step, as a
+simulation does), `fresh` builds a new scene for every timed step (the front built from the
+root, as `bench_step` and `mccd toi-check` do). Prints the medians, the ratio, and `uptime`.
+
+    PYTHONPATH=build/python /usr/bin/python3 tools/python/bench/bench_step.py [--rounds 15] [--threads N]
+"""
+import argparse
+import os
+import pathlib
+import statistics
+import subprocess
+import time
+
+import mccd
+
+here = pathlib.Path(__file__).resolve()
+default_data = os.environ.get("MCCD_DATA_DIR") or str(here.parents[3].parent / "shared" / "data")
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--data", default=default_data, help="the shared data folder (default: %(default)s)")
+parser.add_argument("--rounds", type=int, default=15, help="timed rounds per regime (default: %(default)s)")
+parser.add_argument("--threads", type=int, default=None, help="the scene's arena (default: the caller's, every core)")
+args = parser.parse_args()
+
+frames = pathlib.Path(args.data) / "toi" / "cloth-ball" / "frames"
+V0, F = mccd.load_mesh(frames / "cloth_ball92.ply")
+V1, _ = mccd.load_mesh(frames / "cloth_ball93.ply")
+start, end = [V0], [V1]
+
+
+def python_step(scene):
+    t0 = time.perf_counter()
+    r = scene.step(start, end)
+    n = len(r)
+    del r
+    return time.perf_counter() - t0, n
+
+
+def cpp_step(scene):
+    return scene._time_cpp_step(start, end)
+
+
+def measure(regime):
+    scene = mccd.Scene([(V0, F)], threads=args.threads)
+    python_step(scene), cpp_step(scene)  # warm up: memory, the front, the thread pool
+    times = {"python": [], "c++": []}
+    for k in range(args.rounds):
+        order = [("python", python_step), ("c++", cpp_step)]
+        if k % 2:
+            order.reverse()
+        for name, fn in order:
+            if regime == "fresh":
+                scene = mccd.Scene([(V0, F)], threads=args.threads)
+            seconds, n = fn(scene)
+            assert n == 113854, n
+            times[name].append(seconds)
+    return times
+
+
+print(f"mccd {mccd.__version__} ({mccd.simd_level}), cloth-ball 92 -> 93 (92,230 triangles, 113,854 contacts), "
+      f"threads {args.threads or 'default (every core)'}, {args.rounds} rounds per regime, alternating")
+print("uptime before:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
+for regime in ("kept", "fresh"):
+    t = measure(regime)
+    py, cpp = statistics.median(t["python"]), statistics.median(t["c++"])
+    print(f"{regime:5s}  python median {1e3 * py:7.1f} ms  c++ median {1e3 * cpp:7.1f} ms  "
+          f"python / c++ = {py / cpp:.3f}  (python min {1e3 * min(t['python']):.1f}, c++ min {1e3 * min(t['c++']):.1f} ms)")
+print("uptime after: ", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
