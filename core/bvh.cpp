@@ -9,9 +9,6 @@
 #include <numeric>
 #include <stdexcept>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/parallel_invoke.h>
 
 namespace mccd {
 
@@ -35,8 +32,8 @@ struct Box {
 class Builder {
  public:
   Builder(const std::vector<TriangleBounds>& tris, BvhBuild kind, unsigned max_leaf, std::vector<BvhNode>& nodes,
-          std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& node_mesh)
-      : tris_(tris), kind_(kind), max_leaf_(max_leaf), order_(order), nodes_(nodes), node_mesh_(node_mesh) {
+          std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& node_mesh, const detail::Executor& ex)
+      : tris_(tris), kind_(kind), max_leaf_(max_leaf), order_(order), nodes_(nodes), node_mesh_(node_mesh), ex_(ex) {
     order_.resize(tris.size());
     std::iota(order_.begin(), order_.end(), 0u);
   }
@@ -111,7 +108,7 @@ class Builder {
     // The halves touch disjoint ranges of order_ and only read the triangles.
     std::vector<BvhNode> left, right;
     std::uint32_t dl = 0, dr = 0;
-    tbb::parallel_invoke([&] { build(left, lo, m, level + 1, dl); }, [&] { build(right, m, hi, level + 1, dr); });
+    ex_.invoke([&] { build(left, lo, m, level + 1, dl); }, [&] { build(right, m, hi, level + 1, dr); });
     depth = std::max({depth, dl, dr});
     splice(out, left);
     const auto r = static_cast<std::uint32_t>(out.size());
@@ -168,7 +165,7 @@ class Builder {
   /// minimising area(left) * leaves(left) + area(right) * leaves(right), leaves(n) = the
   /// leaves n triangles make at least (n / max_leaf, rounded up).
   std::size_t split_sah(std::size_t lo, std::size_t hi) {
-    constexpr int kBins = 32;  // 16: 1-1.5% more volume tests and leaf pairs on cloth-ball
+    constexpr int kBins = 32;  // fewer bins place the splits coarser: more volume tests
     Vec3 mn, mx;
     centroid_bounds(lo, hi, mn, mx);
     std::array<std::array<Box, kBins>, 3> bins;
@@ -187,9 +184,8 @@ class Builder {
       }
     }
     // A side's cost counts the leaves its triangles will at least make, not the triangles: a
-    // leaf pair costs about the same whatever its leaves' fill, so fuller leaves win
-    // (cloth-ball at 21 triangles a leaf: 14.4 -> 19.5 triangles a leaf, 57 K -> 41 K leaf
-    // pairs; with one triangle a leaf, the classic cost).
+    // leaf pair costs about the same whatever its leaves' fill, so fuller leaves win (with one
+    // triangle a leaf, the classic cost).
     auto leaves = [&](std::size_t n) { return double((n + max_leaf_ - 1) / max_leaf_); };
     double best = kInf;
     int best_axis = -1, best_bin = 0;
@@ -231,18 +227,20 @@ class Builder {
   std::vector<std::uint32_t>& order_;
   std::vector<BvhNode>& nodes_;
   std::vector<std::uint32_t>& node_mesh_;
+  const detail::Executor& ex_;
   std::uint32_t depth_ = 0;
 };
 
 }  // namespace
 
-std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x) {
+std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x,
+                                            const detail::Executor& ex) {
   std::vector<TriangleBounds> out;
   out.reserve(faces.size());
   detail::advise_huge_pages(out.data(), faces.size() * sizeof(TriangleBounds));  // megabytes, new
   out.resize(faces.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 8192), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+  ex.for_chunks(faces.size(), 8192, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f != end; ++f) {
       const Vec3 a = x.point(faces[f][0]), b = x.point(faces[f][1]), c = x.point(faces[f][2]);
       out[f] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), (a + b + c) / 3.0};
     }
@@ -305,13 +303,14 @@ void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, c
 }  // namespace
 
 BvhTopology::BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf,
-                         const std::vector<std::size_t>& mesh_offsets, const std::vector<Triangle>* faces)
+                         const std::vector<std::size_t>& mesh_offsets, const std::vector<Triangle>* faces,
+                         const detail::Executor& ex)
     : max_leaf_(std::clamp(max_leaf, 1u, kMaxLeaf)) {
   const std::size_t n = triangles.size();
   if (n == 0) return;
   if (n > kMaxTriangles) throw std::length_error("mccd: more than 2^27 triangles in one scene");
   nodes_.reserve(2 * n - 1);
-  Builder b(triangles, kind, max_leaf_, nodes_, order_, node_mesh_);
+  Builder b(triangles, kind, max_leaf_, nodes_, order_, node_mesh_, ex);
   std::vector<std::size_t> offsets;
   std::vector<std::uint32_t> unit_mesh;
   if (faces && faces->size() == n && kind != BvhBuild::Median) {

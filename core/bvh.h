@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <mccd/core/executor.h>
 #include <mccd/core/options.h>
 #include <mccd/geometry/mesh.h>
 
@@ -18,7 +19,8 @@ namespace mccd {
 struct TriangleBounds {
   Vec3 lo, hi, centroid;
 };
-std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x);
+std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x,
+                                            const detail::Executor& ex = detail::serial_executor());
 
 struct BvhNode {
   std::uint32_t end;            ///< 4 bytes: one past the last node of this subtree
@@ -31,7 +33,7 @@ static_assert(sizeof(BvhNode) == 8, "BvhNode: two 32-bit fields");
 class BvhTopology {
  public:
   /// The most triangles of a leaf: a leaf's vertices and edges (3 per triangle at most) are
-  /// the lanes of 64-bit masks (core/owned_pairs.h).
+  /// the lanes of 64-bit masks (core/leaf_rule_pairs.h).
   static constexpr unsigned kMaxLeaf = 21;
   /// A leaf's first triangle and count share 32 bits (5 for the count).
   static constexpr std::size_t kMaxTriangles = std::size_t(1) << 27;
@@ -50,8 +52,10 @@ class BvhTopology {
   /// a mesh that looks like a closed surface (F >= 4 triangles over F / 2 + 2 vertices) gets
   /// its own subtree too, beside the mesh's other triangles, so that self-collision culling can
   /// certify it whole (core/self_culling.h).
+  /// Large ranges build their two halves through `ex` (the same tree on any executor).
   BvhTopology(const std::vector<TriangleBounds>& triangles, BvhBuild kind, unsigned max_leaf = 1,
-              const std::vector<std::size_t>& mesh_offsets = {}, const std::vector<Triangle>* faces = nullptr);
+              const std::vector<std::size_t>& mesh_offsets = {}, const std::vector<Triangle>* faces = nullptr,
+              const detail::Executor& ex = detail::serial_executor());
 
   std::size_t size() const { return nodes_.size(); }
   bool leaf(std::uint32_t i) const { return nodes_[i].end == i + 1; }

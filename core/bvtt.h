@@ -3,10 +3,10 @@
 /// node (a, b), a != b, tests the volumes of BVH nodes a and b; its children split the larger
 /// (or the non-leaf) of the two. A self node (n, n) stands for collisions inside n: for an
 /// inner n it has three children, (l, l), (r, r) and (l, r); a leaf self node is empty. The
-/// front (core/bvtt_front.h) is the set of pair nodes where a traversal stopped: disjoint pairs
+/// front (core/front.h) is the set of pair nodes where a traversal stopped: disjoint pairs
 /// and leaf pairs. Under the canonical representative rule, leaf pairs of adjacent triangles
 /// only stop without a test and are never in the front: their features are the orphan set's
-/// (core/orphans.h). Pairs inside one leaf are the self stage's (core/leaf_pairs.h).
+/// (core/canonical_rule_orphans.h). Pairs inside one leaf are the self stage's (core/leaf_pairs.h).
 ///
 /// Self-collision culling (core/self_culling.h): a self node of a node certified this step, or
 /// under one, stops without a test; the front keeps it, and a front node whose two nodes lie
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/bvtt_node.h>
 #include <mccd/core/query.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/self_culling.h>
@@ -114,73 +115,6 @@ class Bvtt {
     }
   }
 
-  /// Front tracking of nodes [begin, end) (paper sections 4.3-4.4): a disjoint node stays; an
-  /// overlapping leaf pair is processed and stays; an overlapping inner node is replaced by the
-  /// stops of its subtree (sprouting; no pruning).
-  void track(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
-    std::uint32_t touched = 0;
-    for (const NodePair* it = begin; it != end; ++it) {
-      const NodePair n = *it;
-      // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
-      if (kAhead && it + kAhead < end && bvh_.leaf(it[kAhead].a) && bvh_.leaf(it[kAhead].b))
-        touched += leaf_.touch(it[kAhead].a, it[kAhead].b);
-      if (culled(n, out)) {
-        out.front.push_back(n);
-        continue;
-      }
-      if (n.a == n.b) {  // a self node kept while it was covered
-        ++out.stats.invalidated;
-        const std::size_t before = out.front.size();
-        out.stack.push_back(n);
-        traverse<true>(out);
-        out.stats.sprouted += out.front.size() - before;
-        continue;
-      }
-      ++out.stats.volume_tests;
-      const unsigned ov = quarters(n);
-      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        if (ov) leaf_.process(n.a, n.b, ov, out);
-        out.front.push_back(n);
-      } else if (!ov) {
-        out.front.push_back(n);
-      } else {
-        ++out.stats.invalidated;
-        const std::size_t before = out.front.size();
-        push_children(n, out.stack);
-        traverse<true>(out);
-        out.stats.sprouted += out.front.size() - before;
-      }
-    }
-    asm volatile("" ::"r"(touched));
-    finish(out);
-  }
-
-  /// The same tests as track(), for a query: the front is read, not changed (nothing is
-  /// recorded; overlapping inner nodes are traversed below). Stops when the query stops.
-  void track_readonly(const NodePair* begin, const NodePair* end, WorkerOutput& out) const {
-    for (const NodePair* it = begin; it != end && !query_.stopped(); ++it) {
-      const NodePair n = *it;
-      if (culled(n, out)) continue;
-      if (n.a == n.b) {
-        out.stack.push_back(n);
-        traverse<false>(out);
-        continue;
-      }
-      ++out.stats.volume_tests;
-      const unsigned ov = quarters(n);
-      if (!ov) continue;
-      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
-        leaf_.process(n.a, n.b, ov, out);
-      } else {
-        push_children(n, out.stack);
-        traverse<false>(out);
-      }
-    }
-    finish(out);
-  }
-
- private:
-  static constexpr int kAhead = 4;  // front nodes ahead whose leaf pair is touched
   /// Whether front node n is covered by a patch certified this step (counted).
   bool culled(const NodePair& n, WorkerOutput& out) const {
     if (!culling_ || !(n.a == n.b ? culling_->covered(n.a) : culling_->covers(n.a, n.b))) return false;
@@ -193,6 +127,11 @@ class Bvtt {
     return volumes_[n.a].overlap_mask(volumes_[n.b]);
   }
 
+  const Leaf& leaf() const { return leaf_; }
+  /// Whether the query has its answer (no more node needs a visit).
+  bool stopped() const { return query_.stopped(); }
+
+ private:
   /// Pairs below two nodes of single meshes that are never tested (a static mesh, or one
   /// without self-collision): the whole BVTT subtree is skipped, never entering the front.
   bool skipped(const NodePair& n) const {

@@ -70,8 +70,8 @@ class FeatureTests {
   /// The same after the whole-step test, with the vertex's and the face's quarters at hand.
   void test_vf_quarters(std::uint32_t v, const Quarters& vertex_quarters, const Triangle& t, std::uint32_t f,
                         const Quarters& face_quarters, WorkerOutput& out, unsigned within) const {
-    const unsigned pieces = vertex_quarters.overlap_mask(face_quarters, within);
-    if (pieces) narrow({v, t[0], t[1], t[2]}, v, f, ContactKind::VertexFace, pieces, out);
+    const unsigned quarters = vertex_quarters.overlap_mask(face_quarters, within);
+    if (quarters) narrow({v, t[0], t[1], t[2]}, v, f, ContactKind::VertexFace, quarters, out);
   }
 
   /// Edges a and b (sharing no vertex). `within` as for test_vf.
@@ -84,23 +84,23 @@ class FeatureTests {
                                       WorkerOutput& out, unsigned within) const {
     if (query_.stopped()) return;
     ++out.stats.feature_box_tests;
-    if (const unsigned pieces = qa.overlap_mask(qb, within)) test_ee_pieces(a, b, pieces, out);  // symmetric test
+    if (const unsigned quarters = qa.overlap_mask(qb, within)) test_ee_quarters(a, b, quarters, out);  // symmetric test
   }
 
-  /// Edges a and b (sharing no vertex) whose quarter volumes overlap in the quarters `pieces`
+  /// Edges a and b (sharing no vertex) whose quarter volumes overlap in the quarters `quarters`
   /// (non-zero; the caller tested them and counted the test): the narrow phase.
-  void test_ee_pieces(std::uint32_t a, std::uint32_t b, unsigned pieces, WorkerOutput& out) const {
-    test_ee_pieces(a, topo_.edges()[a], b, topo_.edges()[b], pieces, out);
+  void test_ee_quarters(std::uint32_t a, std::uint32_t b, unsigned quarters, WorkerOutput& out) const {
+    test_ee_quarters(a, topo_.edges()[a], b, topo_.edges()[b], quarters, out);
   }
   /// The same with the edges' ends at hand (a leaf pair keeps them in leaf order).
-  void test_ee_pieces(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned pieces,
+  void test_ee_quarters(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
                       WorkerOutput& out) const {
     if (query_.stopped()) return;
     // reported as (lower id, higher id)
     if (a < b)
-      narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, pieces, out);
+      narrow({ea[0], ea[1], eb[0], eb[1]}, a, b, ContactKind::EdgeEdge, quarters, out);
     else
-      narrow({eb[0], eb[1], ea[0], ea[1]}, b, a, ContactKind::EdgeEdge, pieces, out);
+      narrow({eb[0], eb[1], ea[0], ea[1]}, b, a, ContactKind::EdgeEdge, quarters, out);
   }
 
   /// Feature pairs past their volume tests wait in out.queued, and run_queued() sends them to
@@ -118,7 +118,7 @@ class FeatureTests {
     return false;
   }
 
-  /// Bit of QueuedPair::pieces: the pair's own quarter volumes are not tested yet (the low
+  /// Bit of QueuedPair::quarters: the pair's own quarter volumes are not tested yet (the low
   /// four bits then name quarters known to hold every quarter in which they overlap, such as
   /// those of its leaves); run_queued() tests them after the coplanarity filter, only for the
   /// pairs it keeps. Same contacts, times and elementary tests either way: the filter decides
@@ -130,17 +130,17 @@ class FeatureTests {
   /// quarter volumes overlap; found at leaves (leaf_a, leaf_b).
   void queue_vf(std::uint32_t v, const Quarters& vq, const Triangle& t, std::uint32_t f, const Quarters& fq,
                 std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
-    if (const unsigned pieces = vq.overlap_mask(fq))
-      out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(pieces)});
+    if (const unsigned quarters = vq.overlap_mask(fq))
+      out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)});
   }
   /// Queues edges a and b (sharing no vertex, ends ea and eb) whose quarter volumes overlap in
-  /// `pieces` (non-zero).
-  void queue_ee(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned pieces,
+  /// `quarters` (non-zero).
+  void queue_ee(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
                 std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
     if (a < b)
-      out.queued.push_back({{ea[0], ea[1], eb[0], eb[1]}, a, b, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(pieces)});
+      out.queued.push_back({{ea[0], ea[1], eb[0], eb[1]}, a, b, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(quarters)});
     else
-      out.queued.push_back({{eb[0], eb[1], ea[0], ea[1]}, b, a, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(pieces)});
+      out.queued.push_back({{eb[0], eb[1], ea[0], ea[1]}, b, a, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(quarters)});
   }
 
   /// Queues vertex v against face f (corners t) with their quarter volumes untested
@@ -177,7 +177,7 @@ class FeatureTests {
           for (std::size_t i = 0; i < n; ++i)
             if (w[i].kind == kind) {
               std::copy(w[i].ids, w[i].ids + 4, ids[m]);
-              within[m] = w[i].pieces & 0xFu;
+              within[m] = w[i].quarters & 0xFu;
               where[m++] = static_cast<std::uint16_t>(i);
             }
           if (!m) continue;
@@ -192,18 +192,18 @@ class FeatureTests {
           ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
           continue;
         }
-        unsigned pieces = p.pieces & 0xFu;
-        if (p.pieces & kVolumesPending) {
-          pieces = volume_quarters(p);
-          if (!pieces) continue;  // the volumes never meet in a common quarter
-          if (filtered[i] != kUndecided && !(filtered[i] & pieces)) {
+        unsigned quarters = p.quarters & 0xFu;
+        if (p.quarters & kVolumesPending) {
+          quarters = volume_quarters(p);
+          if (!quarters) continue;  // the volumes never meet in a common quarter
+          if (filtered[i] != kUndecided && !(filtered[i] & quarters)) {
             ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
             continue;
           }
         }
         const std::size_t before = out.contacts.size();
         narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
-               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, pieces, out);
+               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out);
         if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
       }
     }
@@ -223,22 +223,22 @@ class FeatureTests {
     return swept_.edge_quarters(p.a).overlap_mask(swept_.edge_quarters(p.b));
   }
 
-  /// The narrow phase of a pair past its volume tests, in the quarters `pieces`: the points
+  /// The narrow phase of a pair past its volume tests, in the quarters `quarters`: the points
   /// `ids` (VF: vertex, then the face's corners; EE: edge a's ends, then edge b's), the pair
   /// (a, b) as reported.
   void narrow(const std::array<std::uint32_t, 4>& ids, std::uint32_t a, std::uint32_t b, ContactKind kind,
-              unsigned pieces, WorkerOutput& out) const {
+              unsigned quarters, WorkerOutput& out) const {
     const bool vf = kind == ContactKind::VertexFace;
     const CcdKind ccd = vf ? CcdKind::VertexFace : CcdKind::EdgeEdge;
     CcdPoints p;
     load(ids, p);
     typename NarrowPhase::Query q;
-    const unsigned quarters = narrow_.filter(q, ccd, p, pieces);
-    if (!quarters) {
+    const unsigned kept = narrow_.filter(q, ccd, p, quarters);
+    if (!kept) {
       ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
       return;
     }
-    const RawContact pair{RawContact::make_key(kind, a, b), 0.25 * std::countr_zero(quarters), {ids[0], ids[1], ids[2], ids[3]}};
+    const RawContact pair{RawContact::make_key(kind, a, b), 0.25 * std::countr_zero(kept), {ids[0], ids[1], ids[2], ids[3]}};
     if (!wanted(pair, out)) return;
     ++(vf ? out.stats.vf_tests : out.stats.ee_tests);
     double toi = 0;

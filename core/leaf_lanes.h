@@ -1,7 +1,7 @@
 #pragma once
 /// @file Internal: per BVH leaf, the coarse whole-step volumes (geometry/coarse_volumes.h) of
 /// its features as lane blocks (geometry/lane_masks.h): the vertices and the edges it owns
-/// (leaf rule, core/leaf_owners.h) and its faces, in slot order, and the leaf's own coarse
+/// (leaf rule, core/leaf_rule_owners.h) and its faces, in slot order, and the leaf's own coarse
 /// volume. A leaf pair first tests a feature of one leaf against every feature of the other
 /// in lanes on these; only the pairs they do not separate read the float volumes.
 ///
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
-#include <mccd/core/leaf_owners.h>
+#include <mccd/core/leaf_rule_owners.h>
 #include <mccd/core/options.h>
 #include <mccd/geometry/coarse_volumes.h>
 #include <mccd/geometry/lane_masks.h>
@@ -179,7 +179,7 @@ class LeafLanes {
   /// AfterFilter always.
   void set_order(VolumeOrder order) { order_ = order; }
   /// Whether leaf `node`'s feature pairs have their quarter volumes tested after the
-  /// coplanarity filter (core/owned_pairs.h): its lanes filled this step, it moves little
+  /// coplanarity filter (core/leaf_rule_pairs.h): its lanes filled this step, it moves little
   /// against its edges' lengths (still_rule()).
   bool still(std::uint32_t node) const { return still_[node] != 0; }
 

@@ -1,19 +1,19 @@
 #pragma once
 /// @file Internal: the work at an overlapping pair of BVH leaves and inside single leaves, under
 /// the scene's representative rule (SceneOptions::representatives): the leaf rule
-/// (core/leaf_owners.h, the default) or the paper's canonical rule with its orphan set
-/// (core/canonical_pairs.h). Either way each feature pair goes through the same test
+/// (core/leaf_rule_owners.h, the default) or the paper's canonical rule with its orphan set
+/// (core/canonical_rule_pairs.h). Either way each feature pair goes through the same test
 /// (core/feature_tests.h) at exactly one place per step, so both rules and every method report
 /// identical contacts. The rule is chosen once per scene; one branch per leaf pair.
 #include <cstdint>
 #include <utility>
 #include <vector>
 
-#include <mccd/core/canonical_pairs.h>
+#include <mccd/core/canonical_rule_pairs.h>
 #include <mccd/core/leaf_lanes.h>
-#include <mccd/core/leaf_owners.h>
-#include <mccd/core/owned_pairs.h>
-#include <mccd/core/orphans.h>
+#include <mccd/core/leaf_rule_owners.h>
+#include <mccd/core/leaf_rule_pairs.h>
+#include <mccd/core/canonical_rule_orphans.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/self_culling.h>
 
@@ -72,7 +72,7 @@ class LeafPairs {
   }
 
   /// Processes what process() left queued in `out` (the leaf rule's narrow phase runs queued
-  /// pairs together: core/owned_pairs.h).
+  /// pairs together: core/leaf_rule_pairs.h).
   void finish(WorkerOutput& out) const {
     if (owned_rule_) owned_.finish(out);
   }

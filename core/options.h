@@ -39,7 +39,7 @@ enum class Representatives : std::uint8_t {
   Default,    ///< Leaf with the SAH tree, Canonical with the median tree (the paper's setting)
   Leaf,       ///< every vertex and edge is owned by the BVH leaf of its first triangle; a pair is
               ///< tested at the leaf pair of its owners (adjacent leaves included) or inside one
-              ///< leaf; no search and no orphan set (core/leaf_owners.h)
+              ///< leaf; no search and no orphan set (core/leaf_rule_owners.h)
   Canonical,  ///< the paper's (section 4.6): the first non-adjacent triangle pair around the two
               ///< features carries the pair; pairs with no such carrier form the orphan set,
               ///< tested every step, and leaf pairs of adjacent triangles never enter the front

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include <mccd/core/carriers.h>
+#include <mccd/core/canonical_rule_carriers.h>
 #include <mccd/core/options.h>
-#include <mccd/core/orphans.h>
+#include <mccd/core/canonical_rule_orphans.h>
 #include <mccd/geometry/topology.h>
 
 namespace mccd::detail {

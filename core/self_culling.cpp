@@ -8,9 +8,6 @@
 #include <atomic>
 #include <cmath>
 
-#include <mccd/parallel/volume_update.h>
-
-#include <oneapi/tbb/parallel_invoke.h>
 
 namespace mccd::detail {
 
@@ -114,7 +111,7 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
 }
 
 bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                                 const Positions& x1, const RayMeets& ray_meets) const {
+                                 const Positions& x1, const Executor& ex, const RayMeets& ray_meets) const {
   const std::uint32_t node = closed_[k];
   // c(t): the mean of the component's vertices at each end (any point would do; this one is
   // inside a star-shaped body).
@@ -141,7 +138,7 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
   // subtree's nodes in parallel (a large surface is most of the step's certification), each
   // block's common sign merged into one (any order gives the same outcome).
   std::atomic<int> common{2};  // 2: none yet; 0: failed
-  dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
+  ex.dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
     int s = 2;
     for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
       if (!bvh.leaf(i)) continue;
@@ -303,11 +300,11 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 }
 
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
-                          const RayMeets& ray_meets) {
+                          const Executor& ex, const RayMeets& ray_meets) {
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
   // Closed surfaces first (each certified whole covers every node below it), in parallel.
-  dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
+  ex.dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
     for (std::size_t k = b; k != e; ++k) {
       // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
       // surface that is not star-shaped from its mean costs a pass over its triangles for
@@ -318,7 +315,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
         --o.skip;
         continue;
       }
-      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ray_meets);
+      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets);
       o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
       o.skip = (1 << o.failures) - 1;
     }
@@ -328,7 +325,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   };
   // The signs each needed leaf's faces share, in parallel over the nodes (a leaf writes its
   // own); then every inner node's, the signs both children share.
-  dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
+  ex.dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const std::uint32_t node = static_cast<std::uint32_t>(i);
       if (!bvh.leaf(node) || !signed_[node]) continue;
@@ -380,7 +377,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     }
     top_[i] = kNone;
     std::uint64_t l = 0, r = 0;
-    tbb::parallel_invoke([&] { l = self(self, bvh.left(i)); }, [&] { r = self(self, bvh.right(i)); });
+    ex.invoke([&] { l = self(self, bvh.left(i)); }, [&] { r = self(self, bvh.right(i)); });
     return l + r;
   };
   certified_ = n ? subtree(subtree, 0) : 0;

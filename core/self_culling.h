@@ -54,6 +54,7 @@
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/executor.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/geometry/positions.h>
 
@@ -65,8 +66,9 @@ class SelfCulling {
 
   /// No node can be culled.
   SelfCulling() = default;
-  /// Finds the disk nodes of `bvh` among the meshes with self-collision of `scene`.
-  SelfCulling(const BvhTopology& bvh, const SceneTopology& scene);
+  /// Finds the disk nodes of `bvh` among the meshes with self-collision of `scene` (loops
+  /// through `ex`).
+  SelfCulling(const BvhTopology& bvh, const SceneTopology& scene, const Executor& ex = serial_executor());
 
   /// Whether any node is a disk or a closed surface (otherwise certify() has nothing to do).
   bool possible() const { return disks_ != 0 || !closed_.empty(); }
@@ -78,8 +80,9 @@ class SelfCulling {
   /// along `direction` certainly meets no triangle of `node` at the start of the step (its
   /// volume is apart from the ray); it lets the closed-surface certificate skip subtrees.
   using RayMeets = std::function<bool(std::uint32_t, const Vec3&, const Vec3&)>;
+  /// Loops through `ex`; the certificates do not depend on it.
   void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
-               const RayMeets& ray_meets = {});
+               const Executor& ex = serial_executor(), const RayMeets& ray_meets = {});
   /// Nothing is covered (a step that does not cull: brute force, or culling off).
   void clear() { active_ = false; }
 
@@ -133,7 +136,7 @@ class SelfCulling {
                    const std::vector<std::uint32_t>& component);
   /// The central-projection certificate of closed_[k] for the step.
   bool certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                      const Positions& x1, const RayMeets& ray_meets) const;
+                      const Positions& x1, const Executor& ex, const RayMeets& ray_meets) const;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)

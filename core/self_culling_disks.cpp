@@ -7,9 +7,6 @@
 #include <cmath>
 
 #include <mccd/geometry/disjoint_sets.h>
-#include <mccd/parallel/volume_update.h>
-
-#include <oneapi/tbb/parallel_invoke.h>
 
 namespace mccd::detail {
 
@@ -17,13 +14,13 @@ namespace {
 
 /// Per face: whether each of its vertices' faces form one fan and each of its edges has at
 /// most two faces, in opposite directions (what every patch of a disk needs).
-std::vector<std::uint8_t> regular_faces(const MeshTopology& topo) {
+std::vector<std::uint8_t> regular_faces(const MeshTopology& topo, const Executor& ex) {
   const auto& faces = topo.faces();
   auto corner = [&](std::uint32_t f, std::uint32_t v) {
     return faces[f][0] == v ? 0u : faces[f][1] == v ? 1u : 2u;
   };
   std::vector<std::uint8_t> edge_ok(topo.num_edges(), 0);
-  dynamic_for(topo.num_edges(), 8192, [&](std::size_t begin, std::size_t end) {
+  ex.dynamic_for(topo.num_edges(), 8192, [&](std::size_t begin, std::size_t end) {
     for (std::size_t e = begin; e < end; ++e) {
       const std::uint32_t n = topo.edge_face_count(e);
       if (n == 1) {
@@ -44,7 +41,7 @@ std::vector<std::uint8_t> regular_faces(const MeshTopology& topo) {
     return g[0] == f ? g[1] : g[0];
   };
   std::vector<std::uint8_t> vertex_ok(topo.num_vertices(), 0);
-  dynamic_for(topo.num_vertices(), 8192, [&](std::size_t begin, std::size_t end) {
+  ex.dynamic_for(topo.num_vertices(), 8192, [&](std::size_t begin, std::size_t end) {
     for (std::uint32_t v = static_cast<std::uint32_t>(begin); v < end; ++v) {
       const std::size_t k = topo.vertex_face_count(v);
       if (k == 0) continue;
@@ -80,7 +77,7 @@ std::vector<std::uint8_t> regular_faces(const MeshTopology& topo) {
     }
   });
   std::vector<std::uint8_t> ok(topo.num_faces(), 0);
-  dynamic_for(topo.num_faces(), 8192, [&](std::size_t begin, std::size_t end) {
+  ex.dynamic_for(topo.num_faces(), 8192, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       bool r = true;
       for (unsigned c = 0; c < 3; ++c) r = r && vertex_ok[faces[f][c]] && edge_ok[topo.face_edges(f)[c]];
@@ -235,10 +232,10 @@ Patch union_patch(const Patch& l, const Patch& r) {
 
 }  // namespace
 
-SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
+SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene, const Executor& ex) {
   const MeshTopology& topo = scene.topology();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
-  const std::vector<std::uint8_t> regular = regular_faces(topo);
+  const std::vector<std::uint8_t> regular = regular_faces(topo, ex);
   const std::vector<std::uint32_t> component = face_components(topo);
   std::vector<std::uint32_t> triangles_below(n, 0);  // filled bottom-up with the patches
   auto triangles = [&](std::uint32_t i) {
@@ -279,7 +276,7 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene) {
       for (std::uint32_t k = i + bvh.subtree_size(i); k-- > i;) node(k);
       return;
     }
-    tbb::parallel_invoke([&] { self(self, bvh.left(i)); }, [&] { self(self, bvh.right(i)); });
+    ex.invoke([&] { self(self, bvh.left(i)); }, [&] { self(self, bvh.right(i)); });
     node(i);
   };
   if (n) subtree(subtree, 0);

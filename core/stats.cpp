@@ -46,7 +46,7 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   t_update += o.t_update;
   t_refit += o.t_refit;
   t_front += o.t_front;
-  t_orphans += o.t_orphans;
+  t_self += o.t_self;
   t_contacts += o.t_contacts;
   t_total += o.t_total;
   return *this;

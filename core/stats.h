@@ -57,10 +57,10 @@ struct StepStats {
   std::uint64_t front_bytes = 0;        ///< bytes held by the front buffers (fbd only)
   /// Stage times: volume update, refit (with the self-collision certificates), candidate search
   /// with leaf pairs and elementary tests (front tracking, traversal or brute force), the self
-  /// stage (t_orphans: the pairs no front node holds, concurrent with the search: each leaf's
+  /// stage (t_self: the pairs no front node holds, concurrent with the search: each leaf's
   /// own pairs under the leaf rule, the orphan set and the pairs inside leaves under the
   /// canonical rule), the join of contacts into the canonical order, and the whole step.
-  double t_update = 0, t_refit = 0, t_front = 0, t_orphans = 0, t_contacts = 0, t_total = 0;
+  double t_update = 0, t_refit = 0, t_front = 0, t_self = 0, t_contacts = 0, t_total = 0;
 
   /// Adds every count and time of `o` (the method is kept).
   StepStats& operator+=(const StepStats& o);

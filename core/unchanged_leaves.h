@@ -88,7 +88,7 @@ class UnchangedLeaves {
   void end() { have_prev_ = true; }
 
   /// Leaf `leaf` after compare() (only when active()): whether all its corners repeat.
-  /// `owners`: the LeafOwnership (core/leaf_owners.h).
+  /// `owners`: the LeafOwnership (core/leaf_rule_owners.h).
   template <class Owners>
   bool mark_leaf(std::uint32_t leaf, const Owners& owners) {
     bool same = true;

@@ -6,18 +6,11 @@
 #include <cstdint>
 #include <vector>
 
+#include <mccd/core/bvtt_node.h>
 #include <mccd/core/contact.h>
 #include <mccd/geometry/large_allocator.h>
 
 namespace mccd::detail {
-
-/// A BVTT pair node: two BVH node ids, a < b (a == b is a self node).
-struct NodePair {
-  std::uint32_t a, b;  ///< 8 bytes
-  friend bool operator<(const NodePair& x, const NodePair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; }
-  friend bool operator==(const NodePair& x, const NodePair& y) = default;
-};
-static_assert(sizeof(NodePair) == 8);
 
 /// A contact as found: its key (kind, then global ids a and b: VF vertex and face, EE edge
 /// a < edge b), which orders contacts canonically (global ids number the meshes in order), its
@@ -42,7 +35,7 @@ struct QueuedPair {
   std::uint32_t ids[4];
   std::uint32_t a, b;
   std::uint32_t leaf_a, leaf_b;
-  std::uint8_t kind, pieces;  ///< kind: 0 vertex-face, 1 edge-edge
+  std::uint8_t kind, quarters;  ///< kind: 0 vertex-face, 1 edge-edge; quarters: the 4-bit mask
 };
 
 struct WorkerOutput {

@@ -1,3 +1,66 @@
+// The method of the elementary tests (the contract is in geometry/ccd.h):
+//  (a) swept boxes: the axis-aligned boxes of each primitive over [0, 1] (exact comparisons);
+//  (b) coplanarity filter: the cubic f(t) = det of the three difference vectors, in Bernstein
+//      form over [0, 1] with a rigorous forward error bound; four coefficients of one sign
+//      beyond the bound (beyond d * max|normal| when min_distance = d > 0) prove that the
+//      points are never coplanar, hence never touch. Most pairs leave at (a) or (b);
+//  (c0) min_distance = d > 0: pairs certainly within d at t = 0 (corner to corner, corner to
+//      segment, or the interior case, with rigorous bounds; geometry/ccd_distance.h) are
+//      contacts at toi = 0, without a search;
+//  (c1) fast path (d = 0; geometry/ccd_fast.h): the roots of the cubic are isolated from its
+//      Bernstein coefficients (Descartes' rule of signs, splitting at its critical points),
+//      each bracketed within a few ulps of time by two evaluations of the cubic with
+//      certain signs, and the inside functions at the bracket's ends bound them over it. A
+//      root where some g_i is certainly negative has no contact; the first root where every
+//      g_i is certainly positive is a certified contact (toi on the grid of 2^-32 below it).
+//      Every root rejected: no contact. Where the roots cannot be isolated (the cubic within
+//      its error bound at t = 0 or t = 1, as for primitives moving in one plane), one
+//      separation test over [0, 1]. Anything undecided goes to the search, so the answer is
+//      the search's answer or a better one (the fast path never reports a pair that does
+//      not touch). It decides nearly every true contact of a real step and most pairs past (b);
+//  (c) a depth-first search over dyadic time pieces, earliest first. On each piece the cubic
+//      and the inside functions g_i (VF: the barycentric coordinates times |n|^2; EE: the
+//      two segment parameters and their complements times |da x db|^2), all quartics in
+//      Bernstein form with error bounds, are enclosed. A piece is cleared when the cubic is
+//      certainly nonzero, or some g_i is certainly negative (d = 0), or a separating
+//      direction (closest points, face normal, in-plane edge normals, da x db and its
+//      in-plane normals) holds over the whole piece, checked rigorously. It is a certified
+//      contact when the cubic certainly changes sign and every g_i is certainly positive.
+//      Undecided pieces are halved; pieces still undecided at 2^-40 are handed to the same
+//      search in long double (64-bit mantissa, error bounds ~2^11 times smaller) down to
+//      2^-56; what stays undecided is reported as a contact at the start of that piece.
+//      Shortcuts (geometry/ccd_exact.h: exact predicates on the input doubles with
+//      floating-point expansions, behind floating-point filters):
+//       - touching exactly at t = 0 (exact coplanarity and inside tests at the start
+//         positions) is certified at once: toi = 0;
+//       - touching exactly at t = 1 is proved the same way on the end positions (lazily,
+//         once, when the values at t = 1 allow it); then a piece reaching t = 1 whose earlier
+//         part [lo, 1 - 2^-k] (k = 40, 24, 12) is certainly free of coplanarity ends the
+//         search with toi = 1 - 2^-k, and any piece undecided at depth >= 16 ends it with
+//         toi = its start (every earlier piece is cleared, so this is never late);
+//       - on a piece where the cubic certainly changes sign, its sign change is located by
+//         bracketed floating-point Newton steps and the piece is replaced by a window of
+//         width 2^(k+1-D) (D the maximum depth of the pass, k = 3, 8 or 13) around it,
+//         once the cubic is proved (rigorous bounds, polynomials restricted from [0, 1])
+//         certainly nonzero on the rest of the piece: about D - k levels of bisection are
+//         skipped;
+//       - a piece undecided at 2^-20 or finer (or when the budget runs out) is offered to
+//         an exact certificate of touching without crossing (geometry/ccd_touch.h), before
+//         any long-double pass: the vertex (VF) or an edge end (EE) and the segment it
+//         meets, with their six start and end points exactly coplanar (exact orient3d), the
+//         point crossing the segment's line strictly inside the segment within the piece or
+//         [lo, lo + 2^-30] or [lo, lo + 2^-20] (rigorous bounds on three quadratics). A
+//         certified touch is a contact at toi = the piece's start;
+//       - on pieces at depths 0, 4, 8, 12 and 16, the same certificate is offered a window
+//         [a, a + 2^-20] (on the grid of 2^-20, a >= the piece's start) around where a point
+//         crosses a segment's line (the point-segment pairs in turn); when it certifies a
+//         touch there and [start, a] is cleared in one piece by the tests of any piece, the
+//         search ends with toi = a (the first contact lies in the window): the primitives
+//         that move in one plane reach their touch in a few pieces instead of bisecting down
+//         to 2^-20;
+//       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
+//         exhausts them is reported as a contact at the start of the current piece.
+//
 // Elementary CCD tests (vertex-face, edge-edge) under linear motion: the entry points and
 // stage (a). See geometry/ccd.h for the contract; the error analysis sits beside each stage
 // (ccd_bernstein.h, ccd_stages.h, ccd_distance.h, ccd_fast.h, ccd_search.h).

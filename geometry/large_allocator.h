@@ -4,7 +4,7 @@
 ///
 /// A scene's arrays run to tens of megabytes, written in full every step. Touched for the
 /// first time in 4 KiB pages, every page costs a fault (in virtual machines several
-/// microseconds each: cloth-ball's 60 MB of swept volumes took 0.18 s to zero); in 2 MiB huge
+/// microseconds each); in 2 MiB huge
 /// pages the same memory takes a few hundred faults, and the traversal's random reads miss
 /// the TLB less. Arrays of at least half a huge page are therefore allocated on 2 MiB
 /// boundaries, and their whole huge pages advised MADV_HUGEPAGE (Linux; a hint: where the
@@ -55,8 +55,7 @@ inline void advise_huge_pages([[maybe_unused]] void* p, [[maybe_unused]] std::si
 
 /// Backs the whole 4 KiB pages inside [p, p + bytes) at once (MADV_POPULATE_WRITE, Linux 5.14
 /// and later) for memory about to be written in full: the kernel fills them in one call
-/// instead of one fault per page (in a virtual machine a fault costs about 10 us; 64 MiB took
-/// 13 ms this way against 170-230 ms page by page on the development VM). Huge pages advised
+/// instead of one fault per page (each costly in a virtual machine). Huge pages advised
 /// before are backed as huge pages. A hint: where the kernel declines, the pages fault in
 /// when first written, as without it.
 inline void populate_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_t bytes) {

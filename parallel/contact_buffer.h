@@ -27,8 +27,7 @@ using ContactBuffer = tbb::concurrent_vector<RawContact, LargeAllocator<RawConta
 /// scratch storage (its contacts, narrow-phase queue and traversal stack, all empty by then;
 /// its front part stays): a parallel loop has thousands of units, and the next unit a thread
 /// runs then reuses the same memory instead of touching new pages (each a fault the first
-/// time: cloth-ball's first step faulted 4,200 times with each unit's queue and stack kept,
-/// about 500 without).
+/// time).
 inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
   if (!out.contacts.empty()) buffer.grow_by(out.contacts.begin(), out.contacts.end());
   out.contacts = std::vector<RawContact>();

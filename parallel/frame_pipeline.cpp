@@ -5,7 +5,7 @@
 #include <memory>
 
 #include <mccd/geometry/error.h>
-#include <mccd/parallel/volume_update.h>
+#include <mccd/parallel/update.h>
 
 namespace mccd {
 

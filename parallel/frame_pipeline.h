@@ -11,7 +11,7 @@
 #include <optional>
 #include <vector>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 namespace mccd {
 

@@ -12,23 +12,22 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 
-#include <mccd/core/bvtt_front.h>
+#include <mccd/core/front.h>
 #include <mccd/parallel/contact_buffer.h>
 
 namespace mccd::detail {
 
-/// Front nodes per block: enough work to amortise a task (a block of a disjoint front costs
-/// ~10 us), small enough that sprouting blocks balance across threads and that small scenes
-/// get more blocks than kSerialBlocks (with leaves of up to 21 triangles a front holds few
-/// nodes: BART's 4,000 triangles about 5,000; 2,048 a block left it on one thread).
+/// Front nodes per block: enough work to amortise a task, small enough that sprouting blocks
+/// balance across threads and that small scenes get more blocks than kSerialBlocks (with
+/// leaves of up to 21 triangles a front holds few nodes).
 inline constexpr std::size_t kFrontBlock = 512;
 /// Fronts of at most this many blocks are tracked on the calling thread (block by block, as
 /// in parallel): a parallel loop costs more in waking threads than it saves there.
 inline constexpr std::size_t kSerialBlocks = 4;
 
 /// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
-/// by the caller from those outputs (BvttFront::advance). `readonly` (the simulator queries):
-/// the same tests without recording a next front (Bvtt::track_readonly).
+/// by the caller from those outputs (BvttFront::advance); sprouting is BvttFront::track. `readonly` (the simulator queries):
+/// the same tests without recording a next front (BvttFront::track_readonly).
 template <class Bvtt>
 std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs& blocks,
                         ContactBuffer& contacts, bool readonly = false) {
@@ -40,9 +39,9 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
     o.clear();
     const std::size_t lo = b * kFrontBlock, hi = std::min(nodes.size(), lo + kFrontBlock);
     if (readonly)
-      bvtt.track_readonly(nodes.data() + lo, nodes.data() + hi, o);
+      BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o);
     else
-      bvtt.track(nodes.data() + lo, nodes.data() + hi, o);
+      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o);
     flush(o, contacts);
   };
   if (n <= kSerialBlocks) {

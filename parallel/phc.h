@@ -18,9 +18,8 @@ namespace mccd::detail {
 
 /// Subtasks PHC splits the BVTT's top into (at least), from the BVH's size (never from the
 /// thread count): a quarter of its nodes, from 256 to 4096. Enough that the heaviest subtree
-/// pair does not decide the time on 16 threads (256 left the real cloth-ball step at 7x
-/// there; 4096 gives 8x in half the time), few enough that small scenes' tasks stay worth a
-/// task.
+/// pair does not decide the time on 16 threads, few enough that small scenes' tasks stay
+/// worth a task.
 inline std::size_t phc_tasks(std::size_t bvh_nodes) { return std::clamp<std::size_t>(bvh_nodes / 4, 256, 4096); }
 
 /// Serial depth-first traversal from the root into `out` (the `traverse` method; with

@@ -1,10 +1,14 @@
 #pragma once
-/// @file Internal: BVH refit as a static partition (paper section 4.7). The BVH never changes
+/// @file Internal: stage 2 of a step (parallel/stepper.cpp), the refit: the BVH's node volumes
+/// from the swept volumes, then the self-collision certificates (core/self_culling.h).
+/// BVH refit as a static partition (paper section 4.7). The BVH never changes
 /// shape, so its cut into subtrees of similar size is planned once; every step refits the
 /// subtrees under a static partition (fixed work per subtree), then the few nodes above the
 /// cut serially, deepest first. A BVH small enough to be one subtree is refitted serially,
 /// without creating a task (Embree's bvh_refit does the same).
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <vector>
 
@@ -13,6 +17,14 @@
 #include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/leaf_rule_owners.h>
+#include <mccd/core/self_culling.h>
+#include <mccd/core/stats.h>
+#include <mccd/core/unchanged_leaves.h>
+#include <mccd/geometry/assert.h>
+#include <mccd/geometry/quarter_volumes.h>
+#include <mccd/geometry/swept_volumes.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -83,5 +95,67 @@ class RefitPlan {
   std::vector<std::uint32_t> top_;    ///< inner nodes above them, ascending
   std::vector<std::uint32_t> static_roots_;  ///< subtrees that never move
 };
+
+/// A leaf's quarter volumes: the merge of its corners' (owned, then the others'), each once.
+template <BoundingVolume BV>
+QuarterVolume<BV> leaf_volume(const LeafOwnership& owners, const SweptVolumes<BV>& swept, std::uint32_t node) {
+  QuarterVolume<BV> v = QuarterVolume<BV>::empty();
+  for (std::uint32_t s = owners.vertex_begin(node); s != owners.vertex_begin(node + 1); ++s)
+    v.merge(swept.vertex_quarters_at(s));
+  for (std::uint32_t i = owners.foreign_begin(node); i != owners.foreign_begin(node + 1); ++i)
+    v.merge(swept.vertex_quarters_at(owners.foreign_corner(i)));
+  return v;
+}
+
+/// Whether the ray from `o` along `d` may meet the first quarter's box of `v` (false only when
+/// it certainly does not: the box is grown by 2^-30 of the largest magnitude involved, far
+/// more than the relative error 2^-51 of each slab's parameters).
+template <class Quarters>
+bool ray_meets_box(const Quarters& v, const Vec3& o, const Vec3& d) {
+  double enter = 0, leave = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < 3; ++s) {
+    const double lo0 = v.lo(s)[0], hi0 = v.hi(s)[0];
+    if (!(lo0 <= hi0)) return true;  // empty or NaN: no claim
+    const double grow = 0x1p-30 * std::max({std::abs(lo0), std::abs(hi0), std::abs(o[s])}) + 0x1p-1000;
+    const double lo = lo0 - grow, hi = hi0 + grow;
+    if (d[s] == 0) {
+      if (o[s] < lo || o[s] > hi) return false;
+      continue;
+    }
+    double a = (lo - o[s]) / d[s], b = (hi - o[s]) / d[s];
+    if (a > b) std::swap(a, b);
+    enter = std::max(enter, a);
+    leave = std::min(leave, b);
+  }
+  return !(enter > leave);
+}
+
+/// Stage 2: every node volume from the swept volumes (a leaf whose corners all repeat the
+/// previous full step keeps its volume when `unchanged` is active), then, with `cull`, the
+/// patches certified free of self-collision for x0 -> x1 (cleared otherwise).
+template <BoundingVolume BV>
+void refit_stage(const RefitPlan& plan, const BvhTopology& bvh, const LeafOwnership& owners,
+                 const SweptVolumes<BV>& swept, UnchangedLeaves& unchanged, LargeVector<QuarterVolume<BV>>& nodes,
+                 bool cull, SelfCulling& culling, const MeshTopology& topo, const Positions& x0, const Positions& x1,
+                 StepStats& stats) {
+  MCCD_ASSERT(nodes.size() == bvh.size(), "node volumes not sized to the BVH");
+  if (unchanged.active())
+    plan.run(bvh, nodes, [&](std::uint32_t n) {
+      return unchanged.mark_leaf(n, owners) ? nodes[n] : leaf_volume(owners, swept, n);
+    });
+  else
+    plan.run(bvh, nodes, [&](std::uint32_t n) { return leaf_volume(owners, swept, n); });
+  stats.refit_nodes = plan.nodes_refitted(bvh);
+  if (cull && culling.possible()) {
+    // A node's first-quarter box holds its triangles at the start of the step; the ray test
+    // grows it by far more than the rounding of its double arithmetic before it rules a node
+    // out.
+    culling.certify(bvh, topo, x0, x1, tbb_executor(),
+                    [&](std::uint32_t n, const Vec3& o, const Vec3& d) { return ray_meets_box(nodes[n], o, d); });
+    stats.culled_patches = culling.certified();
+  } else {
+    culling.clear();
+  }
+}
 
 }  // namespace mccd::detail

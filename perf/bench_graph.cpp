@@ -14,7 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/frame_sequence.h>
 
 #include "fixtures/scenes.h"

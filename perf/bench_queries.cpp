@@ -15,7 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/frame_sequence.h>
 
 #include "harness/cli.h"

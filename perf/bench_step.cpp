@@ -13,7 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
 
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   std::string dir = std::string(MCCD_DEFAULT_DATA_DIR) + "/toi/cloth-ball";
   SceneOptions opt;
   int threads = 1, repeat = 3;
-  CLI::App app{"Times one real step per stage (scene build, update, refit, search, orphans, join), repeated from\n"
+  CLI::App app{"Times one real step per stage (scene build, update, refit, search, self stage, join), repeated from\n"
                "scratch with a new scene each time; prints the step's counts and the median seconds.",
                "bench_step"};
   app.add_option("DIR", dir, "Time-of-Impact scene folder with frames/*.ply (its first two frames are the step)")
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     const FrameSequence seq = read_frames(frame_files(dir));
     tbb::task_arena arena(threads);
     opt.arena = &arena;
-    std::vector<double> total, build, update, refit, search, orphans, join;
+    std::vector<double> total, build, update, refit, search, self, join;
     StepResult r;
     for (int k = 0; k < repeat; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
       update.push_back(r.stats.t_update);
       refit.push_back(r.stats.t_refit);
       search.push_back(r.stats.t_front);
-      orphans.push_back(r.stats.t_orphans);
+      self.push_back(r.stats.t_self);
       join.push_back(r.stats.t_contacts);
     }
     auto med = [](std::vector<double> v) {
@@ -79,8 +79,8 @@ int main(int argc, char** argv) {
                 (unsigned long long)s.volume_tests, (unsigned long long)s.triangle_tests, (unsigned long long)s.leaf_pairs, (unsigned long long)s.vf_tests,
                 (unsigned long long)s.ee_tests, (unsigned long long)s.vf_ccd.root_tests,
                 (unsigned long long)s.ee_ccd.root_tests, (unsigned long long)s.front_size, s.front_bytes / 1e6);
-    std::printf("  median s: scene build %.3f, step %.3f (update %.3f, refit %.3f, search %.3f, orphans %.3f, join %.3f)\n",
-                med(build), med(total), med(update), med(refit), med(search), med(orphans), med(join));
+    std::printf("  median s: scene build %.3f, step %.3f (update %.3f, refit %.3f, search %.3f, self %.3f, join %.3f)\n",
+                med(build), med(total), med(update), med(refit), med(search), med(self), med(join));
   } catch (const std::exception& e) {
     return report_failure("bench_step", e);
   }

@@ -11,8 +11,8 @@
 #include "command.h"
 #include "options.h"
 #include "toi_truth.h"
-#include <mccd/core/orphans.h>
-#include <mccd/core/scene.h>
+#include <mccd/core/canonical_rule_orphans.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/mesh_io.h>
@@ -182,7 +182,7 @@ int toi_check(const ToiOptions& a) {
     std::printf("\n");
   }
   std::printf("  time %.3f s (update %.3f, refit %.3f, front %.3f, %s %.3f)\n", s.t_total, s.t_update, s.t_refit,
-              s.t_front, leaf_rule ? "self" : "orphans", s.t_orphans);
+              s.t_front, leaf_rule ? "self" : "orphans", s.t_self);
   const std::size_t missed = vf.missed + ee.missed;
   std::printf("%s: %zu true pairs missed\n", missed ? "FAIL" : "OK", missed);
   return missed ? 1 : 0;

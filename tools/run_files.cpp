@@ -193,7 +193,7 @@ void StatsFile::add(std::size_t step, std::size_t substep, const StepResult& r) 
       {"rebuilds", s.rebuilds},
       {"orphan_vf_tested", s.orphan_vf_tested},
       {"orphan_ee_tested", s.orphan_ee_tested},
-      {"seconds", {{"update", s.t_update}, {"refit", s.t_refit}, {"front", s.t_front}, {"orphans", s.t_orphans},
+      {"seconds", {{"update", s.t_update}, {"refit", s.t_refit}, {"front", s.t_front}, {"self", s.t_self},
                    {"contacts", s.t_contacts}, {"total", s.t_total}}}};
   file_.write((first_ ? "" : ",\n") + j.dump());
   first_ = false;

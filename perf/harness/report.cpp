@@ -76,7 +76,7 @@ std::string default_machine_name() {
 void write_runs_csv(const std::string& path, const std::vector<RunRecord>& runs) {
   std::ostringstream o;
   o << "scene,config,method,threads,run,steps,intervals,wall_ms,ms_per_frame,first_step_ms,update_ms,refit_ms,"
-       "search_ms,orphans_ms,contacts_ms,engine_total_ms,volume_tests,feature_box_tests,vf_tests,ee_tests,vf_contacts,"
+       "search_ms,self_ms,contacts_ms,engine_total_ms,volume_tests,feature_box_tests,vf_tests,ee_tests,vf_contacts,"
        "ee_contacts,contacts,leaf_pairs,adjacent_leaf_pairs,sprouted,invalidated,rebuilds,rebuild_front,"
        "rebuild_adjacent,max_front_size,max_front_bytes\n";
   o.precision(9);
@@ -84,7 +84,7 @@ void write_runs_csv(const std::string& path, const std::vector<RunRecord>& runs)
     const StepStats& s = r.sum;
     o << r.scene << ',' << r.config << ',' << to_string(r.method) << ',' << r.threads << ',' << r.run << ',' << r.steps << ','
       << r.intervals << ',' << r.wall_ms << ',' << r.wall_ms / std::max(1, r.intervals) << ',' << r.first_step_ms;
-    for (double t : {s.t_update, s.t_refit, s.t_front, s.t_orphans, s.t_contacts, s.t_total}) o << ',' << 1e3 * t;
+    for (double t : {s.t_update, s.t_refit, s.t_front, s.t_self, s.t_contacts, s.t_total}) o << ',' << 1e3 * t;
     for (std::uint64_t c : {s.volume_tests, s.feature_box_tests, s.vf_tests, s.ee_tests, s.vf_contacts, s.ee_contacts,
                             r.contacts, s.leaf_pairs, s.adjacent_leaf_pairs, s.sprouted, s.invalidated, r.rebuilds,
                             r.rebuild_front, r.rebuild_adjacent, r.max_front_size, r.max_front_bytes})
@@ -156,7 +156,7 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   }
 
   o << "\n## Stages\n\nms per frame of each stage (StepStats: update = volume update, refit, search = front tracking or\n"
-       "traversal with its leaf pairs and elementary tests, orphans = the pairs no front node holds (each leaf's own\n"
+       "traversal with its leaf pairs and elementary tests, self = the pairs no front node holds (each leaf's own\n"
        "pairs with the leaf rule, the orphan set with the canonical one; beside the search in the step's flow\n"
        "graph, sharing its threads), contacts = the join into the canonical order; search + self = the part of\n"
        "the step those two take together (the engine's time less update, refit and contacts); step = the whole\n"

@@ -27,7 +27,7 @@ const VariantSummary* find(const std::vector<VariantSummary>& vs, const std::str
 }  // namespace
 
 const char* stage_name(int stage) {
-  static const char* names[kStageCount] = {"update", "refit", "search", "orphans", "contacts", "search + self", "step"};
+  static const char* names[kStageCount] = {"update", "refit", "search", "self", "contacts", "search + self", "step"};
   return names[stage];
 }
 
@@ -36,7 +36,7 @@ bool stage_scales_alone(int stage) { return stage != kSearch && stage != kOrphan
 double stage_ms(const RunRecord& r, int stage) {
   const StepStats& s = r.sum;
   const double beside = s.t_total - s.t_update - s.t_refit - s.t_contacts;
-  const double sec[kStageCount] = {s.t_update, s.t_refit,  s.t_front, s.t_orphans, s.t_contacts,
+  const double sec[kStageCount] = {s.t_update, s.t_refit,  s.t_front, s.t_self, s.t_contacts,
                                    beside,     1e-3 * r.wall_ms};
   return 1e3 * sec[stage] / std::max(1, r.intervals);
 }

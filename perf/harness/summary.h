@@ -17,12 +17,12 @@
 namespace mccd::bench {
 
 /// The stages of a step as StepStats times them, and the whole step (wall clock). The search
-/// and the self stage ("orphans") run beside each other in the step's flow graph, sharing the
+/// and the self stage ("self") run beside each other in the step's flow graph, sharing the
 /// threads, so neither one's time alone says how it scales: kSearchAndSelf is the part of the
 /// step they take together (the step's engine time less the update, the refit and the join),
 /// the one whose serial fraction means something.
 enum Stage { kUpdate, kRefit, kSearch, kOrphans, kContacts, kSearchAndSelf, kStep, kStageCount };
-/// "update", "refit", "search", "orphans", "contacts", "search + self", "step"
+/// "update", "refit", "search", "self", "contacts", "search + self", "step"
 const char* stage_name(int stage);
 /// Whether a stage's serial fraction is reported (not for the two that share their threads).
 bool stage_scales_alone(int stage);

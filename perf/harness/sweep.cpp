@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 namespace mccd::bench {

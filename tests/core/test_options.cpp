@@ -9,7 +9,7 @@
 
 #include "fixtures/scenes.h"
 #include "support/errors.h"
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 using namespace mccd;

@@ -1,7 +1,7 @@
 // Self-collision culling (core/self_culling.h): which BVH nodes are disks, the certified
 // orientation and contour tests, and scenes that report the same contacts with and without it.
 #include <mccd/core/bvh.h>
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/core/self_culling.h>
 
 #include <gtest/gtest.h>

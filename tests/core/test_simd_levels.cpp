@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/frame_sequence.h>
 #include <mccd/geometry/lane_masks.h>
 

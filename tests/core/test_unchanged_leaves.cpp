@@ -2,7 +2,7 @@
 // reports, step by step, the contacts of a scene that has never seen the step before.
 #include <gtest/gtest.h>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include "fixtures/scenes.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 #include "fixtures/scenes.h"

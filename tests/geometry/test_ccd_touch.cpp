@@ -15,7 +15,7 @@
 
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_touch.h>
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include "fixtures/scenes.h"
 #include "support/exact_ccd.h"
 

@@ -6,7 +6,7 @@
 
 #include <type_traits>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 #include "fixtures/scenes.h"

@@ -3,7 +3,7 @@
 #include "core/contact.h"     // the host's
 #include "geometry/mesh.h"    // the host's
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/topology.h>
 
 #include <cstdio>

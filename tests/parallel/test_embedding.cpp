@@ -13,7 +13,7 @@
 #include <atomic>
 #include <thread>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 #include "fixtures/scenes.h"

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <memory>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/frame_sequence.h>
 
 #include "fixtures/scenes.h"

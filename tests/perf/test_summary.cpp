@@ -97,7 +97,7 @@ TEST(HarnessSummary, SearchAndSelfIsTheirSharedPartOfTheStep) {
   RunRecord r;
   r.intervals = 2, r.wall_ms = 10.5;
   r.sum.t_update = 1e-3, r.sum.t_refit = 0.5e-3, r.sum.t_contacts = 0.25e-3, r.sum.t_total = 10e-3;
-  r.sum.t_front = 9e-3, r.sum.t_orphans = 9e-3;
+  r.sum.t_front = 9e-3, r.sum.t_self = 9e-3;
   EXPECT_NEAR(stage_ms(r, kSearchAndSelf), 8.25 / 2, 1e-12);
   EXPECT_NEAR(stage_ms(r, kSearch), 4.5, 1e-12);
   EXPECT_NEAR(stage_ms(r, kStep), 5.25, 1e-12);

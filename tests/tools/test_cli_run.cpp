@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/mesh_io.h>
 
 #include "fixtures/scenes.h"

@@ -30,11 +30,10 @@
 #include <oneapi/tbb/info.h>
 #include <oneapi/tbb/task_arena.h>
 
-// The library's public API (mccd::Scene moves to <mccd/parallel/scene.h>; adapt here).
-#include <mccd/core/scene.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/mesh_io.h>
+#include <mccd/parallel/scene.h>
 
 #include "fixtures/scenes.h"
 #include "options.h"
@@ -326,7 +325,7 @@ py::dict stats_dict(const StepStats& s) {
   d["t_update"] = s.t_update;
   d["t_refit"] = s.t_refit;
   d["t_front"] = s.t_front;
-  d["t_orphans"] = s.t_orphans;  // the self stage (renamed t_self in the library)
+  d["t_self"] = s.t_self;
   d["t_contacts"] = s.t_contacts;
   d["t_total"] = s.t_total;
   return d;

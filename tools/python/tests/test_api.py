@@ -2,6 +2,7 @@
 import ast
 import math
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -13,7 +14,8 @@ METHODS = ["bruteforce", "traverse", "phc", "fbd"]
 
 
 def test_version_and_error_type():
-    assert mccd.__version__ == "0.1.0"
+    project = re.search(r"project\(mccd VERSION ([0-9.]+)", (SOURCE_DIR / "CMakeLists.txt").read_text()).group(1)
+    assert mccd.__version__ == project
     assert issubclass(mccd.Error, ValueError)
     assert mccd.simd_level in ("scalar", "sse2", "avx2", "avx512")
 

@@ -1,13 +1,16 @@
 """The README's Python example (tools/python/examples/cloth_ball.py) runs as written."""
 import os
+import pathlib
 import subprocess
 import sys
 
+import mccd
 from conftest import SOURCE_DIR
 
 
 def test_readme_example(cloth_ball_frames, tmp_path):
-    env = dict(os.environ, MPLBACKEND="Agg")
+    # the module these tests import, wherever the example runs from
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(pathlib.Path(mccd.__file__).resolve().parents[1]))
     r = subprocess.run([sys.executable, str(SOURCE_DIR / "tools" / "python" / "examples" / "cloth_ball.py"),
                         str(cloth_ball_frames)], cwd=tmp_path, env=env, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr

@@ -1,7 +1,7 @@
 // Carriers and orphans: every VF and EE pair that must be tested has exactly one carrier
 // among the non-adjacent triangle pairs, or is in the orphan set, never both.
-#include <mccd/core/carriers.h>
-#include <mccd/core/orphans.h>
+#include <mccd/core/canonical_rule_carriers.h>
+#include <mccd/core/canonical_rule_orphans.h>
 
 #include <gtest/gtest.h>
 

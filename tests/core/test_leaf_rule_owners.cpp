@@ -1,8 +1,8 @@
-// The leaf rule's ownership (core/leaf_owners.h): every vertex and edge has exactly one owner
+// The leaf rule's ownership (core/leaf_rule_owners.h): every vertex and edge has exactly one owner
 // leaf, which holds a triangle around it, and each leaf's owned vertices plus its foreign
 // corners are exactly its triangles' corners, each once (what the stepper's leaf refit merges).
 #include <mccd/core/bvh.h>
-#include <mccd/core/leaf_owners.h>
+#include <mccd/core/leaf_rule_owners.h>
 
 #include <gtest/gtest.h>
 

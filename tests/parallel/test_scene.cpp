@@ -1,7 +1,7 @@
 // Scene: the methods (brute force, traversal from the root, front tracking) and both
 // representative rules must give identical contacts at every step of generated scenes; bad
 // input must leave no trace.
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include <mccd/core/carriers.h>
+#include <mccd/core/canonical_rule_carriers.h>
 
 namespace mccd::detail {
 

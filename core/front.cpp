@@ -1,4 +1,4 @@
-#include <mccd/core/bvtt_front.h>
+#include <mccd/core/front.h>
 
 #include <algorithm>
 
@@ -41,6 +41,16 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
   if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||
       static_cast<double>(invalidated_since_build_) > invalid_ratio * L)
     valid_ = false;  // equations 3-4
+}
+
+std::size_t BvttFront::cap(WorkerOutputs& units, std::size_t max_bytes) {
+  std::size_t held = bytes();
+  for (const WorkerOutput& o : units) held += o.front.capacity() * sizeof(NodePair);
+  if (max_bytes == 0 || held <= max_bytes) return held;
+  // Over the cap: dropped rather than kept and grown; the next step rebuilds it.
+  release();
+  for (WorkerOutput& o : units) o.front = std::vector<NodePair>();
+  return 0;
 }
 
 }  // namespace mccd::detail

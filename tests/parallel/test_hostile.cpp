@@ -2,7 +2,7 @@
 // frame; extreme scales, degenerate and non-manifold meshes, contacts exactly at t = 0 and
 // t = 1, a vertex through an edge and through a vertex, huge motion. No crash, and every
 // method reports exactly what brute force reports (which must hold the known contacts).
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file Internal: the feature pairs of leaf pairs and of single leaves under the leaf rule
-/// (core/leaf_owners.h).
+/// (core/leaf_rule_owners.h).
 ///
 /// At a leaf pair (A, B) that the BVTT found overlapping: each vertex A owns against B's faces
 /// and each of B's against A's, each edge A owns against B's; inside a single leaf, its vertices
@@ -28,7 +28,7 @@
 #include <mccd/core/bvh.h>
 #include <mccd/core/feature_tests.h>
 #include <mccd/core/leaf_lanes.h>
-#include <mccd/core/leaf_owners.h>
+#include <mccd/core/leaf_rule_owners.h>
 #include <mccd/core/unchanged_leaves.h>
 #include <mccd/geometry/lane_masks.h>
 

@@ -10,7 +10,7 @@
 /// s is the first (lowest id) triangle around v not adjacent to f. An EE pair (a, b), a < b,
 /// is carried by the lexicographically first (s, t) in faces(a) x faces(b) with s not
 /// adjacent to t. Each feature pair thus has at most one carrier; the pairs with none (every
-/// candidate triangle pair is adjacent) form the orphan set (core/orphans.h).
+/// candidate triangle pair is adjacent) form the orphan set (core/canonical_rule_orphans.h).
 #include <cstdint>
 #include <utility>
 #include <vector>

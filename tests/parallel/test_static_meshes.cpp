@@ -2,7 +2,7 @@
 // flags, less what the flags exclude; no update or refit for what never moves; misuse refused.
 #include <gtest/gtest.h>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
 #include "fixtures/scenes.h"

@@ -1,7 +1,7 @@
 // Failure atomicity: a refused step leaves the scene exactly as it was. After any refusal the
 // next good steps equal those of a scene that never saw it, contacts and every count of the
 // statistics, for every method.
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The public Scene: validation, positions in, and the stepper of the scene's bounding volume.
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include <atomic>
 #include <chrono>
@@ -9,7 +9,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <mccd/core/scene_topology.h>
-#include <mccd/core/stepper.h>
+#include <mccd/parallel/stepper.h>
 #include <mccd/geometry/error.h>
 
 namespace mccd {

@@ -4,15 +4,16 @@
 /// tested at exactly one place: at the leaf pair {leaf owning v, leaf of f}, or inside one leaf
 /// when both are the same; an edge-edge pair at the leaf pair of its two owners, or inside one
 /// leaf. Both leaves contain the features' volumes, so whenever the features can meet, the
-/// BVTT reaches that leaf pair. Unlike the canonical rule of the paper (core/carriers.h), a
+/// BVTT reaches that leaf pair. Unlike the canonical rule of the paper (core/canonical_rule_carriers.h), a
 /// leaf pair needs no search and adjacent leaves need no orphan set: they are ordinary front
 /// nodes, and each leaf's own pairs are tested every step (Stepper's self stage).
-/// The leaf pairs' work under this rule is core/owned_pairs.h.
+/// The leaf pairs' work under this rule is core/leaf_rule_pairs.h.
 #include <bit>
 #include <cstdint>
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/executor.h>
 #include <mccd/core/feature_tests.h>
 #include <mccd/core/unchanged_leaves.h>
 
@@ -31,7 +32,8 @@ class LeafOwnership {
   static constexpr std::uint32_t kNoFace = 0xffffffffu;  ///< an isolated vertex has no owner
 
   LeafOwnership() = default;
-  LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo);
+  /// Fills its tables through `ex` (the same tables on any executor).
+  LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, const Executor& ex = serial_executor());
 
   /// The vertices / edges owned by BVH leaf node `node` (none for an inner node): slots
   /// [vertex_begin(node), vertex_begin(node + 1)) of vertex(slot), likewise for edges. The

@@ -1,12 +1,10 @@
-#include <mccd/core/leaf_owners.h>
+#include <mccd/core/leaf_rule_owners.h>
 
 #include <algorithm>
 
-#include <mccd/parallel/volume_update.h>
-
 namespace mccd::detail {
 
-LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
+LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, const Executor& ex) {
   std::vector<std::uint32_t> leaf_of_face(topo.num_faces(), 0);
   for (std::uint32_t i = 0; i < bvh.size(); ++i)
     if (bvh.leaf(i))
@@ -39,7 +37,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo) {
     if (s == kNoFace) s = next++;  // isolated vertices: stored, never tested
   // Permutations and copies in slot order: every entry written once, in parallel blocks
   // (megabytes for a large scene).
-  auto blocks = [](std::size_t n, const auto& body) { static_for(n, 16384, body); };
+  auto blocks = [&ex](std::size_t n, const auto& body) { ex.static_for(n, 16384, body); };
   l.edge_slot.resize(topo.num_edges());
   edge_ends_.resize(topo.num_edges());
   blocks(edges_.size(), [&](std::size_t b, std::size_t e) {

@@ -1,15 +1,15 @@
 #pragma once
 /// @file Internal: the canonical representative rule of the paper (section 4.6) at a leaf pair:
 /// each non-adjacent pair of the leaves' triangles tests the feature pairs it carries
-/// (core/carriers.h), behind the triangles' volume tests, through the common feature test
+/// (core/canonical_rule_carriers.h), behind the triangles' volume tests, through the common feature test
 /// (core/feature_tests.h). Adjacent triangle pairs carry nothing: their feature pairs are the
-/// orphan set's (core/orphans.h), and leaf pairs of adjacent triangles only never enter the
+/// orphan set's (core/canonical_rule_orphans.h), and leaf pairs of adjacent triangles only never enter the
 /// front. Selected with SceneOptions::representatives = Canonical (the paper's setting, the
 /// default with the paper's median BVH).
 #include <cstdint>
 
 #include <mccd/core/bvh.h>
-#include <mccd/core/carriers.h>
+#include <mccd/core/canonical_rule_carriers.h>
 #include <mccd/core/feature_tests.h>
 
 namespace mccd::detail {

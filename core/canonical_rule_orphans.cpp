@@ -1,4 +1,4 @@
-#include <mccd/core/orphans.h>
+#include <mccd/core/canonical_rule_orphans.h>
 
 #include <algorithm>
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <mccd/core/scene.h>
+#include <mccd/parallel/scene.h>
 
 #include "fixtures/scenes.h"
 

@@ -1,0 +1,133 @@
+#pragma once
+/// @file Internal: the BVTT front as one type (paper sections 4.3-4.5, 4.8): its nodes in
+/// BVH-node order, sprouting (tracking a block of its nodes), the adaptive rebuild rule of
+/// equations 3-4 over the counts since the last build (S: inserted by sprouting, B:
+/// invalidated), the memory cap and the reset. The engine cuts the front into blocks and
+/// tracks them in parallel (parallel/front_tracking.h); everything else about the front is
+/// here.
+#include <cstdint>
+#include <vector>
+
+#include <mccd/core/bvtt_node.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/geometry/assert.h>
+#include <mccd/geometry/large_allocator.h>
+
+namespace mccd::detail {
+
+class BvttFront {
+ public:
+  /// Whether the next fbd step must build the front from the root.
+  bool needs_build() const { return !valid_; }
+  const LargeVector<NodePair>& nodes() const { return nodes_; }
+  std::size_t size() const { return nodes_.size(); }
+
+  /// A fresh front from the pieces of a traversal from the root (concatenated in piece order,
+  /// then sorted by first node: BVH-node order, section 4.8). The pieces are released.
+  void build(WorkerOutputs& pieces);
+  /// The next front from the outputs of the tracked blocks, in block order; adds their S and B
+  /// counts and applies the rebuild rule: when S/L > sprout_ratio or B/L > invalid_ratio (L the
+  /// new front size), the next step rebuilds.
+  void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
+               double invalid_ratio);
+  /// The memory cap: the bytes held by the front and by the parts of it in `units`; over
+  /// `max_bytes` (0: no cap) both are released and the next step rebuilds. Returns the bytes
+  /// held after it.
+  std::size_t cap(WorkerOutputs& units, std::size_t max_bytes);
+  /// Forgets the front: the next fbd step builds it from the root (after a failed step).
+  void invalidate() { valid_ = false; }
+  /// Forgets the front and releases its buffers.
+  void release() {
+    valid_ = false;
+    nodes_ = LargeVector<NodePair>();
+    next_ = LargeVector<NodePair>();
+  }
+  /// Bytes held by the front buffers.
+  std::size_t bytes() const { return (nodes_.capacity() + next_.capacity()) * sizeof(NodePair); }
+
+  /// Sprouting: tracks front nodes [begin, end) over `bvtt` (core/bvtt.h) into `out` (paper
+  /// sections 4.3-4.4). A disjoint node stays; an overlapping leaf pair is processed and
+  /// stays; an overlapping inner node is replaced by the stops of its subtree (no pruning);
+  /// a node covered by a self-culling certificate stays untested. out.front receives this
+  /// block's part of the next front, out.stats its S and B counts.
+  template <class Bvtt>
+  static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out);
+  /// The same tests for a query: the front is read, not changed (nothing is recorded;
+  /// overlapping inner nodes are traversed below). Stops when the query stops.
+  template <class Bvtt>
+  static void track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out);
+
+ private:
+  static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
+  LargeVector<NodePair> nodes_, next_;
+  std::uint64_t sprouted_since_build_ = 0, invalidated_since_build_ = 0;
+  bool valid_ = false;
+};
+
+template <class Bvtt>
+void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out) {
+  const auto& bvh = bvtt.bvh();
+  std::uint32_t touched = 0;
+  for (const NodePair* it = begin; it != end; ++it) {
+    const NodePair n = *it;
+    MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
+    // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
+    if (kAhead && it + kAhead < end && bvh.leaf(it[kAhead].a) && bvh.leaf(it[kAhead].b))
+      touched += bvtt.leaf().touch(it[kAhead].a, it[kAhead].b);
+    if (bvtt.culled(n, out)) {
+      out.front.push_back(n);
+      continue;
+    }
+    if (n.a == n.b) {  // a self node kept while it was covered
+      ++out.stats.invalidated;
+      const std::size_t before = out.front.size();
+      out.stack.push_back(n);
+      bvtt.template traverse<true>(out);
+      out.stats.sprouted += out.front.size() - before;
+      continue;
+    }
+    ++out.stats.volume_tests;
+    const unsigned ov = bvtt.quarters(n);
+    if (bvh.leaf(n.a) && bvh.leaf(n.b)) {
+      if (ov) bvtt.leaf().process(n.a, n.b, ov, out);
+      out.front.push_back(n);
+    } else if (!ov) {
+      out.front.push_back(n);
+    } else {
+      ++out.stats.invalidated;
+      const std::size_t before = out.front.size();
+      bvtt.push_children(n, out.stack);
+      bvtt.template traverse<true>(out);
+      out.stats.sprouted += out.front.size() - before;
+    }
+  }
+  asm volatile("" ::"r"(touched));
+  bvtt.finish(out);
+}
+
+template <class Bvtt>
+void BvttFront::track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out) {
+  const auto& bvh = bvtt.bvh();
+  for (const NodePair* it = begin; it != end && !bvtt.stopped(); ++it) {
+    const NodePair n = *it;
+    MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
+    if (bvtt.culled(n, out)) continue;
+    if (n.a == n.b) {
+      out.stack.push_back(n);
+      bvtt.template traverse<false>(out);
+      continue;
+    }
+    ++out.stats.volume_tests;
+    const unsigned ov = bvtt.quarters(n);
+    if (!ov) continue;
+    if (bvh.leaf(n.a) && bvh.leaf(n.b)) {
+      bvtt.leaf().process(n.a, n.b, ov, out);
+    } else {
+      bvtt.push_children(n, out.stack);
+      bvtt.template traverse<false>(out);
+    }
+  }
+  bvtt.finish(out);
+}
+
+}  // namespace mccd::detail

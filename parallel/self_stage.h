@@ -1,0 +1,50 @@
+#pragma once
+/// @file Internal: stage 4 of a step (parallel/stepper.cpp), the self stage, beside the search:
+/// the feature pairs no BVTT pair node holds (each leaf's own pairs under the leaf rule; the
+/// orphan set and the pairs inside leaves under the canonical rule: core/leaf_pairs.h), in
+/// fixed blocks of self units, each with its own output, added in block order.
+#include <algorithm>
+#include <cstddef>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <mccd/core/stats.h>
+#include <mccd/core/worker_output.h>
+#include <mccd/parallel/contact_buffer.h>
+#include <mccd/parallel/front_tracking.h>
+
+namespace mccd::detail {
+
+class SelfStage {
+ public:
+  /// Self units per block: 16 leaves of up to 21 triangles, so that small scenes still spread
+  /// over many threads.
+  static constexpr std::size_t kBlock = 16;
+
+  /// Every self unit of `leaf` (core/leaf_pairs.h), contacts into `contacts`, counts into
+  /// `stats`.
+  template <class Leaf>
+  void run(const Leaf& leaf, ContactBuffer& contacts, StepStats& stats) {
+    const std::size_t units = leaf.num_self_units(), n = (units + kBlock - 1) / kBlock;
+    if (outputs_.size() < n) outputs_.resize(n);
+    auto block = [&](std::size_t b) {
+      WorkerOutput& o = outputs_[b];
+      o.clear();
+      leaf.process_self(b * kBlock, std::min(units, (b + 1) * kBlock), o);
+      flush(o, contacts);
+    };
+    if (n <= kSerialBlocks)
+      for (std::size_t b = 0; b < n; ++b) block(b);  // as in front tracking: not worth a thread
+    else
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) block(b);
+      });
+    for (std::size_t b = 0; b < n; ++b) stats += outputs_[b].stats;
+  }
+
+ private:
+  WorkerOutputs outputs_;  ///< per block, kept from step to step
+};
+
+}  // namespace mccd::detail

@@ -1,0 +1,81 @@
+#pragma once
+/// @file Internal: stage 1 of a step (parallel/stepper.cpp), the update: the step's positions
+/// become swept volumes per vertex (geometry/swept_volumes.h; edges' and faces' are merged
+/// from them where needed) and, under the leaf rule, coarse volumes on the step's grid. Loops
+/// over chunks dealt out as threads free up (fixed work per item, but a busy virtual machine
+/// stalls a thread now and then: a static partition made the stage wait for it).
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include <mccd/core/leaf_lanes.h>
+#include <mccd/core/scene_topology.h>
+#include <mccd/core/stats.h>
+#include <mccd/core/unchanged_leaves.h>
+#include <mccd/geometry/assert.h>
+#include <mccd/geometry/mesh.h>
+#include <mccd/geometry/swept_volumes.h>
+#include <mccd/parallel/tbb_executor.h>
+
+namespace mccd::detail {
+
+using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
+
+/// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
+/// computed once; edges' and faces' are merged from their vertices' when needed). `kept`: see
+/// SweptVolumes::update_vertices.
+template <BoundingVolume BV>
+void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
+                          const Positions& x1, double min_distance, const IndexRanges& vertices,
+                          const std::uint8_t* kept = nullptr) {
+  constexpr std::size_t kGrain = 2048;
+  if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
+    // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
+    dynamic_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
+      swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
+    });
+    return;
+  }
+  // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
+  for (const auto& range : vertices) {
+    const std::size_t b0 = range.first, e0 = range.second;
+    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
+      swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
+    });
+  }
+}
+
+/// What the update reads and writes.
+template <BoundingVolume BV>
+struct UpdateState {
+  SweptVolumes<BV> swept;  ///< per vertex, in the leaf rule's storage order
+  LeafLanes<BV> lanes;     ///< leaf rule: the leaves' coarse volumes, filled as used
+  GridKeeper<BV::kSlabs> grid;  ///< their grid, fitted to each step
+};
+
+/// Stage 1: the swept volumes of x0 -> x1 for the moving meshes. `compare`: from the second
+/// full step on (leaf rule), each vertex is compared with the previous step's positions first,
+/// and the volumes of those that repeat are kept (UnchangedLeaves::active()).
+template <BoundingVolume BV>
+void update_stage(const SceneTopology& scene, const Positions& x0, const Positions& x1, double min_distance,
+                  bool compare, UnchangedLeaves& unchanged, UpdateState<BV>& state, StepStats& stats) {
+  const MeshTopology& topo = scene.topology();
+  MCCD_ASSERT(x0.rows() == topo.num_vertices() && x1.rows() == topo.num_vertices(), "positions not sized to the scene");
+  if (compare)
+    dynamic_for(topo.num_vertices(), 4096, [&](std::size_t b, std::size_t e) { unchanged.compare(x0, x1, b, e); });
+  const SceneTopology::Ranges& moving = scene.moving();
+  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices,
+                       unchanged.active() ? unchanged.same() : nullptr);
+  for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
+  if (!state.lanes.empty()) {
+    // Every vertex's coarse volume on a grid that holds the step (the leaves' lanes are filled
+    // from them when a leaf pair or the self stage first needs them).
+    const Bounds3 b0 = bounding_box(x0), b1 = bounding_box(x1);
+    const Vec3 lo = b0.min.cwiseMin(b1.min), hi = b0.max.cwiseMax(b1.max);
+    if (lo.x() <= hi.x()) state.lanes.begin(state.grid.fit(lo.data(), hi.data()));
+    dynamic_for(topo.num_vertices(), 8192,
+                [&](std::size_t b, std::size_t e) { state.lanes.quantize_vertices(b, e, state.swept); });
+  }
+}
+
+}  // namespace mccd::detail
