@@ -11,7 +11,9 @@ order (Python first in even rounds, C++ first in odd ones):
     before it stops).
 Two regimes: `kept` steps one scene again and again (the front kept from the last step, as a
 simulation does), `fresh` builds a new scene for every timed step (the front built from the
-root, as `bench_step` and `mccd toi-check` do). Prints the medians, the ratio, and `uptime`.
+root, as `bench_step` and `mccd toi-check` do). Prints the medians, the ratio, the median of
+the rounds' differences (Python minus C++, each round's two steps timed back to back), and
+`uptime`; then the fixed cost of a call on a scene of two triangles (a step of microseconds).
 
     PYTHONPATH=build/python /usr/bin/python3 tools/python/bench/bench_step.py [--rounds 15] [--threads N]
 """
@@ -67,12 +69,36 @@ def measure(regime):
     return times
 
 
+def tiny_overhead(calls=2000):
+    """Median seconds of a Python step and of the same step timed in C++, two triangles."""
+    import numpy as np
+    VA = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    VB0 = np.array([[0.2, 0.2, 1.0], [0.2, 0.2, 3.0], [0.4, 0.2, 3.0]])
+    VB1 = VB0 - [0.0, 0.0, 2.0]
+    F = np.array([[0, 1, 2]])
+    scene = mccd.Scene([(VA, F), (VB0, F)], threads=args.threads)
+    s, e = [VA, VB0], [VA, VB1]
+    py, cpp = [], []
+    for _ in range(calls):
+        t0 = time.perf_counter()
+        r = scene.step(s, e)
+        del r
+        py.append(time.perf_counter() - t0)
+        cpp.append(scene._time_cpp_step(s, e)[0])
+    return statistics.median(py), statistics.median(cpp)
+
+
 print(f"mccd {mccd.__version__} ({mccd.simd_level}), cloth-ball 92 -> 93 (92,230 triangles, 113,854 contacts), "
       f"threads {args.threads or 'default (every core)'}, {args.rounds} rounds per regime, alternating")
 print("uptime before:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
 for regime in ("kept", "fresh"):
     t = measure(regime)
     py, cpp = statistics.median(t["python"]), statistics.median(t["c++"])
+    diff = statistics.median(p - c for p, c in zip(t["python"], t["c++"]))
     print(f"{regime:5s}  python median {1e3 * py:7.1f} ms  c++ median {1e3 * cpp:7.1f} ms  "
-          f"python / c++ = {py / cpp:.3f}  (python min {1e3 * min(t['python']):.1f}, c++ min {1e3 * min(t['c++']):.1f} ms)")
+          f"python / c++ = {py / cpp:.3f}  median difference {1e3 * diff:+.2f} ms  "
+          f"(min {1e3 * min(t['python']):.1f} / {1e3 * min(t['c++']):.1f} ms)")
+py, cpp = tiny_overhead()
+print(f"two triangles: python median {1e6 * py:.1f} us, c++ median {1e6 * cpp:.1f} us: "
+      f"{1e6 * (py - cpp):.1f} us per call in Python")
 print("uptime after: ", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
