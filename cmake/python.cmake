@@ -40,6 +40,9 @@ if(NOT MCCD_SANITIZE)
 endif()
 if(MCCD_PYTHON_DEFAULT)
   message(STATUS "mccd Python module: for ${Python_EXECUTABLE} (Python ${Python_VERSION}, pybind11 ${pybind11_VERSION})")
+elseif(MCCD_SANITIZE)
+  message(STATUS "mccd Python module: off by default in a sanitizer build (an instrumented module cannot be "
+                 "loaded into an uninstrumented interpreter)")
 else()
   message(STATUS "mccd Python module: off by default (no interpreter with numpy, Python headers and pybind11 found; "
                  "bash cmake/install-deps.sh installs them)")
