@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <optional>
 #include <string>
 #include <thread>
@@ -331,6 +332,13 @@ py::dict stats_dict(const StepStats& s) {
   return d;
 }
 
+/// The calling thread's CPU time (time.thread_time() in Python), for the measurement.
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The scene
 
@@ -445,18 +453,20 @@ struct PyScene {
     std::vector<py::object> keep;
     std::vector<std::uintptr_t> ps, pe;
     const std::vector<PositionsView> vs = views(start, "step start", keep, ps), ve = views(end, "step end", keep, pe);
-    double seconds = 0;
+    double seconds = 0, cpu = 0;
     std::size_t contacts = 0;
     {
       py::gil_scoped_release release;
       const auto t0 = std::chrono::steady_clock::now();
+      const double c0 = thread_cpu_seconds();
       {
         const StepResult r = scene->step(vs, ve);
         contacts = r.contacts.size();
       }
+      cpu = thread_cpu_seconds() - c0;
       seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
-    return py::make_tuple(seconds, contacts);
+    return py::make_tuple(seconds, cpu, contacts);
   }
 };
 
@@ -875,10 +885,10 @@ stats: a dict of what the step did (test counts, front size, stage times t_* in 
           "Testing aid: a callable run (holding the GIL) after a step or query has released the\n"
           "GIL and before it reads its arrays; None removes it.")
       .def("_time_cpp_step", &PyScene::time_cpp_step, "start"_a, "end"_a,
-           "_time_cpp_step(start, end) -> (seconds, contacts)\n\n"
+           "_time_cpp_step(start, end) -> (seconds, thread_cpu_seconds, contacts)\n\n"
            "Testing aid: one step(start, end) timed inside C++ (the views made before the clock\n"
-           "starts, the result destroyed before it stops), the C++ side of the measurement of\n"
-           "tools/python/bench/bench_step.py.");
+           "starts, the result destroyed before it stops): wall time and the calling thread's\n"
+           "CPU time. The C++ side of the measurement of tools/python/bench/bench_step.py.");
 
   m.def(
       "load_mesh",
