@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 tbb_prefix=$(bash .ci/tbb-tsan.sh | tail -1)
 tbb_dir=$(dirname "$(find "$tbb_prefix" -name TBBConfig.cmake | head -1)")
 cmake -S . -B build-tsan -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-  -DMCCD_SANITIZE=thread -DTBB_DIR="$tbb_dir" -DMCCD_BUILD_PERF=OFF
+  -DMCCD_SANITIZE=thread -DTBB_DIR="$tbb_dir" -DMCCD_BUILD_PERF=OFF -DMCCD_MPI=OFF
 cmake --build build-tsan -j2 --target mccd_tests
 # The instrumented TBB, not the system one, must be the one loaded.
 loaded=$(ldd build-tsan/bin/mccd_tests | awk '/libtbb/ {print $3}')

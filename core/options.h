@@ -127,6 +127,10 @@ struct SceneOptions {
   /// a second thread for the other branch costs more than it saves. Same results either way;
   /// false exists to measure what the graph costs.
   bool flow_graph = true;
+  /// Measure each stage's work and span (StepStats::ws_*): every task of the stages' parallel
+  /// loops is timed (a clock read per task). For the benchmarks' scaling model; results do
+  /// not change.
+  bool work_span = false;
 };
 
 /// Throws mccd::Error naming the option when a value is out of range (an unknown method or

@@ -49,7 +49,20 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   t_self += o.t_self;
   t_contacts += o.t_contacts;
   t_total += o.t_total;
+  ws_update += o.ws_update;
+  ws_refit += o.ws_refit;
+  ws_search += o.ws_search;
+  ws_self += o.ws_self;
+  ws_branch += o.ws_branch;
+  ws_join += o.ws_join;
   return *this;
+}
+
+double StepStats::predicted_seconds(double threads) const {
+  const double staged = ws_update.work + ws_refit.work + ws_branch.work + ws_join.work;
+  const double outside = t_total > staged ? t_total - staged : 0.0;
+  return outside + ws_update.predict(threads) + ws_refit.predict(threads) + ws_branch.predict(threads) +
+         ws_join.predict(threads);
 }
 
 }  // namespace mccd

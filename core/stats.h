@@ -8,6 +8,21 @@
 
 namespace mccd {
 
+/// The work and span of a stage, in seconds (SceneOptions::work_span): work, the time its
+/// threads spent on it (its serial parts plus every task of its parallel loops); span, its
+/// serial parts plus the longest task of each parallel loop. Measured on one thread, they
+/// predict its time on P threads as span + (work - span) / P (what a greedy scheduler
+/// reaches, memory bandwidth and scheduling costs aside).
+struct WorkSpan {
+  double work = 0, span = 0;
+  double predict(double threads) const { return span + (work - span) / threads; }
+  WorkSpan& operator+=(const WorkSpan& o) {
+    work += o.work;
+    span += o.span;
+    return *this;
+  }
+};
+
 /// Counts are exact and independent of the thread count; times are wall-clock seconds.
 struct StepStats {
   Method method = Method::Fbd;
@@ -61,6 +76,13 @@ struct StepStats {
   /// own pairs under the leaf rule, the orphan set and the pairs inside leaves under the
   /// canonical rule), the join of contacts into the canonical order, and the whole step.
   double t_update = 0, t_refit = 0, t_front = 0, t_self = 0, t_contacts = 0, t_total = 0;
+  /// With SceneOptions::work_span: each stage's work and span (WorkSpan); `branch` is the
+  /// search and the self stage together (their spans add when they run one after the other,
+  /// the longer counts when they run beside each other in the flow graph). Zero otherwise.
+  WorkSpan ws_update, ws_refit, ws_search, ws_self, ws_branch, ws_join;
+  /// The step's predicted seconds on `threads` threads from the work and span measured (best
+  /// from one thread): every stage's prediction plus the time outside the stages (serial).
+  double predicted_seconds(double threads) const;
 
   /// Adds every count and time of `o` (the method is kept).
   StepStats& operator+=(const StepStats& o);

@@ -17,8 +17,10 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   static std::atomic<unsigned> counter{0};
   const fs::path target(path_);
   if (target.filename().empty()) throw Error(path_ + ": cannot write: not a file name");
-  std::string name = "." + target.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
-                     std::to_string(counter++);
+  // appended, not `"." + std::string&&`: that inserts at the front, where GCC 12 warns of an
+  // overlapping copy that cannot happen (-Wrestrict, GCC bug 105329)
+  std::string name = std::string(".").append(target.filename().string());
+  name.append(".tmp").append(std::to_string(::getpid())).append("_").append(std::to_string(counter++));
   fs::path tmp = target;
   tmp.replace_filename(name);
   tmp_ = tmp.string();

@@ -62,7 +62,11 @@ std::string format_frame(const PatternField& pf, std::size_t i) {
 }
 
 std::string face_str(const Triangle& t) {
-  return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+  // appended piece by piece: `"(" + std::string&&` inserts at the front, where GCC 12 warns
+  // of an overlapping copy that cannot happen (-Wrestrict, GCC bug 105329)
+  std::string s = "(";
+  for (int k = 0; k < 3; ++k) s.append(k ? ", " : "").append(std::to_string(t[k]));
+  return s.append(")");
 }
 
 }  // namespace

@@ -62,8 +62,7 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     }
   };
   if (large)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) { convert(r.begin(), r.end()); });
+    chunked_for(n, 4096, convert, tbb::auto_partitioner());
   else
     convert(0, n);
   for (const RawContact& r : buffer) {

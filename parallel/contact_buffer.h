@@ -10,14 +10,14 @@
 #include <cstdint>
 #include <vector>
 
-#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/concurrent_vector.h>
-#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_sort.h>
+#include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/contact.h>
 #include <mccd/core/scene_topology.h>
 #include <mccd/core/worker_output.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -99,8 +99,7 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
     }
   };
   if (n > 4096)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 64),
-                      [&](const tbb::blocked_range<std::size_t>& r) { sort_buckets(r.begin(), r.end()); });
+    chunked_for(nb, 64, sort_buckets, tbb::auto_partitioner());
   else
     sort_buckets(0, nb);
   return true;

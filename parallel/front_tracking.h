@@ -8,12 +8,11 @@
 #include <algorithm>
 #include <vector>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/front.h>
 #include <mccd/parallel/contact_buffer.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -47,12 +46,7 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   if (n <= kSerialBlocks) {
     for (std::size_t b = 0; b < n; ++b) run(b);  // the same blocks, without waking a thread
   } else {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, n, 1),
-        [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t b = r.begin(); b != r.end(); ++b) run(b);
-        },
-        tbb::simple_partitioner());
+    for_each_index(n, run, tbb::simple_partitioner());
   }
   return n;
 }

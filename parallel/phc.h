@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <vector>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
 
 #include <mccd/parallel/contact_buffer.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -54,15 +54,16 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
   bvtt.finish(outs[0]);
   flush(outs[0], contacts);
   outs.resize(1 + tasks.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      WorkerOutput& o = outs[1 + i];
-      o.clear();
-      o.stack.push_back(tasks[i]);
-      bvtt.template traverse<record>(o);
-      flush(o, contacts);
-    }
-  });
+  for_each_index(
+      tasks.size(),
+      [&](std::size_t i) {
+        WorkerOutput& o = outs[1 + i];
+        o.clear();
+        o.stack.push_back(tasks[i]);
+        bvtt.template traverse<record>(o);
+        flush(o, contacts);
+      },
+      tbb::auto_partitioner());
 }
 
 }  // namespace mccd::detail

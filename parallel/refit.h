@@ -12,8 +12,6 @@
 #include <cstdint>
 #include <vector>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/bvh.h>
@@ -64,12 +62,9 @@ class RefitPlan {
     if (roots_.size() == 1) {
       refit_range(bvh, volumes, roots_[0], bvh.nodes()[roots_[0]].end, leaf_volume);
     } else if (!roots_.empty()) {
-      tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, roots_.size(), 1),
-          [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i)
-              refit_range(bvh, volumes, roots_[i], bvh.nodes()[roots_[i]].end, leaf_volume);
-          },
+      for_each_index(
+          roots_.size(),
+          [&](std::size_t i) { refit_range(bvh, volumes, roots_[i], bvh.nodes()[roots_[i]].end, leaf_volume); },
           tbb::static_partitioner());
     }
     for (auto it = top_.rbegin(); it != top_.rend(); ++it)

@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <cstddef>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/stats.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/front_tracking.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -37,9 +37,7 @@ class SelfStage {
     if (n <= kSerialBlocks)
       for (std::size_t b = 0; b < n; ++b) block(b);  // as in front tracking: not worth a thread
     else
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) block(b);
-      });
+      for_each_index(n, block, tbb::auto_partitioner());
     for (std::size_t b = 0; b < n; ++b) stats += outputs_[b].stats;
   }
 

@@ -22,12 +22,9 @@
 #include <mccd/geometry/assert.h>
 #include <mccd/parallel/tbb_executor.h>
 
-namespace mccd::detail {
+#include <algorithm>
 
-namespace {
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-}  // namespace
+namespace mccd::detail {
 
 template <BoundingVolume BV>
 BvhTopology Stepper<BV>::build_bvh(const std::vector<Triangle>& faces, const std::vector<std::size_t>& face_offsets,
@@ -116,7 +113,8 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
   result_.stats.method = method;
   contacts_.clear();
   self_stats_ = {};
-  if (options_.flow_graph && scene_.topology().num_faces() >= kGraphMinFaces) {
+  graph_run_ = options_.flow_graph && scene_.topology().num_faces() >= kGraphMinFaces;
+  if (graph_run_) {
     graph_->run();  // the same stages: 1, 2, then 3 beside 4, then 5
   } else {
     update();  // 1
@@ -135,44 +133,58 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
 
 template <BoundingVolume BV>
 void Stepper<BV>::update() {
-  const auto t = Clock::now();
+  WorkSpanRecorder recorder;
+  const StageClock clock(options_.work_span ? &recorder : nullptr);
   // From the second full step on, each vertex against the previous step's positions (a single
   // step, like toi-check's, pays nothing for it).
   const bool compare = full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf;
   update_stage(scene_, x0_, x1_, options_.min_distance, compare, unchanged_, volumes_, result_.stats);
-  result_.stats.t_update = seconds_since(t);
+  result_.stats.t_update = clock.seconds();
+  result_.stats.ws_update = clock.work_span();
 }
 
 template <BoundingVolume BV>
 void Stepper<BV>::refit() {
-  const auto t = Clock::now();
+  WorkSpanRecorder recorder;
+  const StageClock clock(options_.work_span ? &recorder : nullptr);
   refit_stage(refit_plan_, bvh_, owners_, volumes_.swept, unchanged_, nodes_, method_ != Method::BruteForce, culling_,
               scene_.topology(), x0_, x1_, result_.stats);
-  result_.stats.t_refit = seconds_since(t);
+  result_.stats.t_refit = clock.seconds();
+  result_.stats.ws_refit = clock.work_span();
 }
 
 template <BoundingVolume BV>
 void Stepper<BV>::search() {
-  const auto t = Clock::now();
+  WorkSpanRecorder recorder;
+  const StageClock clock(options_.work_span ? &recorder : nullptr);
   auto oracle = [&](WorkerOutput& out) { brute_force(scene_, bvh_, nodes_, volumes_.swept, tests_, out); };
   search_.run(method_, query_.kind(), bvtt_, oracle, contacts_, result_.stats);
-  result_.stats.t_front = seconds_since(t);
+  result_.stats.t_front = clock.seconds();
+  result_.stats.ws_search = clock.work_span();
 }
 
 template <BoundingVolume BV>
 void Stepper<BV>::self() {
   if (method_ == Method::BruteForce) return;  // brute force already covers every pair
-  const auto t = Clock::now();
+  WorkSpanRecorder recorder;
+  const StageClock clock(options_.work_span ? &recorder : nullptr);
   self_.run(leaf_, contacts_, self_stats_);
-  self_stats_.t_self = seconds_since(t);
+  self_stats_.t_self = clock.seconds();
+  self_stats_.ws_self = clock.work_span();
 }
 
 template <BoundingVolume BV>
 void Stepper<BV>::join() {
-  const auto t = Clock::now();
+  WorkSpanRecorder recorder;
+  const StageClock clock(options_.work_span ? &recorder : nullptr);
   result_.stats += self_stats_;
+  // The search and the self stage: one after the other, or beside each other in the graph.
+  StepStats& st = result_.stats;
+  st.ws_branch = {st.ws_search.work + st.ws_self.work,
+                  graph_run_ ? std::max(st.ws_search.span, st.ws_self.span) : st.ws_search.span + st.ws_self.span};
   join_contacts(contacts_, join_scratch_, scene_, result_);
-  result_.stats.t_contacts = seconds_since(t);
+  st.t_contacts = clock.seconds();
+  st.ws_join = clock.work_span();
 }
 
 template class Stepper<Kdop18>;

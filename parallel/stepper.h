@@ -52,7 +52,6 @@ class Stepper {
   using NodeVolume = QuarterVolume<BV>;
   /// Smaller scenes call the stages in sequence (SceneOptions::flow_graph).
   static constexpr std::size_t kGraphMinFaces = 8192;
-  using Clock = std::chrono::steady_clock;
 
   // The stages, each timed into the step's counters (stepper.cpp).
   void update();
@@ -83,6 +82,7 @@ class Stepper {
   bool full_ = false;             ///< a full step (not a query)
   std::uint64_t full_steps_ = 0;  ///< full steps completed
   bool repeatable_ = false;       ///< the last step was a full step that processed its leaf pairs
+  bool graph_run_ = false;         ///< this step runs through the flow graph
   bool running_ = false;           ///< a step is under way (checked: never two at once)
   StepResult result_;
   StepStats self_stats_;  ///< the self stage's, added at the join (it runs beside the search)

@@ -1,7 +1,8 @@
 // bench_core: the paper's evaluation in one command. For each scene (the four generated ones
 // and the real cloth-ball step, as one step and as 5 sub-steps) x method x thread count: a
 // warm-up whose contacts are checked step by step against the serial result (traverse, one
-// thread), then repeated timed runs. Writes perf/results/<machine>/: runs.csv (every run),
+// thread), then repeated timed runs, and one 1-thread run per method measuring each stage's
+// work and span, from which every thread count is predicted. Writes perf/results/<machine>/: runs.csv (every run),
 // results.md (tables, serial fractions, the paper's figures) and PNG plots (gnuplot).
 //   bench_core [--scenes a,b] [--size tiny|small|full] [--steps N] [--methods traverse,phc,fbd]
 //              [--threads 1,2] [--repeats R] [--out DIR] [--machine NAME] [--no-plots]
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
   GeneratedSource source;
   int repeats = 3;
   std::string out, machine, data_dir = MCCD_DEFAULT_DATA_DIR;
-  bool no_plots = false;
+  bool no_plots = false, no_work_span = false;
   if (const char* d = std::getenv("MCCD_DATA_DIR"); d && *d) data_dir = d;
   app.add_option("--scenes", scenes, "scenes: cloth-ball, n-body, bart, skirt, cloth-ball-toi, cloth-ball-toi-5sub")
       ->delimiter(',')
@@ -79,6 +80,9 @@ int main(int argc, char** argv) {
   app.add_option("--machine", machine, "name of the results folder (default: from the CPU model and thread count)");
   app.add_option("--out", out, "results folder (default: perf/results/<machine> in the source tree)");
   app.add_flag("--no-plots", no_plots, "skip the PNG plots");
+  app.add_flag("--no-work-span", no_work_span,
+               "skip the 1-thread run per method that measures each stage's work and span (and predicts each "
+               "thread count)");
   if (const int rc = mccd::bench::parse_command_line(app, argc, argv); rc >= 0) return rc;
 
   try {
@@ -87,6 +91,7 @@ int main(int argc, char** argv) {
     for (const std::string& m : methods) opt.methods.push_back(parse_method(m.c_str()));
     opt.threads = threads;
     opt.repeats = repeats;
+    opt.work_span_runs = !no_work_span;
     opt.progress = [](const std::string& line) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);

@@ -1,12 +1,19 @@
 // `mccd run FRAMES...`: steps through frame files (or a built-in scene) and reports the
 // contacts of every step; see run_driver.h for how, and `mccd run --help` for every option.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <memory>
 
 #include <CLI/App.hpp>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/mesh_io.h>
 
 #include "command.h"
+#include "mpi/cluster.h"
 #include "options.h"
 #include "run_driver.h"
 #include "run_input.h"
@@ -29,7 +36,7 @@ int run(RunArgs& a) {
   if (a.scene.empty() && a.frames.empty())
     throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene NAME)");
   const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a.scene, a.size, a.frame_count);
-  return run_frames(input, a.settings, "mccd run");
+  return run_frames(input, a.settings, "mccd run", nullptr, &cluster());
 }
 
 const Command reg(
@@ -63,7 +70,8 @@ const Command reg(
           ->check(integer_in(2, 5000));
       add_engine_options(app, a->settings);
       add_file_options(app, a->settings);
-      add_picture_options(app, a->settings, "");
+      add_picture_options(app, a->settings,
+                          "the first contact (the earliest impact of the first sub-step with contacts)", "");
       add_display_options(app, a->settings);
       app.footer(
           about + "\n\nExit status: 0 no collision, 1 collisions found (like diff or grep; --exit-zero gives 0), 2 usage or "

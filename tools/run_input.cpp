@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/frame_sequence.h>
 #include <mccd/geometry/mesh_io.h>
 
 #include "fixtures/scenes.h"
@@ -33,8 +36,10 @@ bool natural_less(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
-std::vector<std::string> folder_frames(const std::string& folder) {
-  const std::filesystem::path dir(folder);
+namespace {
+
+/// The mesh files (.ply, .obj) of a folder, in natural order of their names.
+std::vector<std::string> folder_frames(const std::filesystem::path& dir) {
   std::vector<std::string> out;
   std::error_code ec;
   for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
@@ -48,24 +53,34 @@ std::vector<std::string> folder_frames(const std::string& folder) {
   return out;
 }
 
-RunInput input_from_files(const std::vector<std::string>& given) {
-  if (given.empty()) throw Error("no frames given (files, a pattern like frame%03d.ply, or a folder)");
+}  // namespace
+
+std::vector<std::string> sequence_paths(const std::vector<std::string>& given) {
   std::error_code ec;
   const bool folder = given.size() == 1 && std::filesystem::is_directory(given[0], ec);
-  const std::vector<std::string> paths = folder ? folder_frames(given[0]) : frame_paths(given);
+  return folder ? folder_frames(given[0]) : frame_paths(given);
+}
+
+RunInput input_from_files(const std::vector<std::string>& given) {
+  std::error_code ec;
+  const bool folder = given.size() == 1 && std::filesystem::is_directory(given[0], ec);
+  const std::vector<std::string> paths = sequence_paths(given);
+  // a path that is not there is named as such before anything is counted or read
+  for (const std::string& p : paths)
+    if (!std::filesystem::exists(p, ec)) throw Error(p + ": cannot open: " + std::strerror(ENOENT));
   if (paths.size() < 2)
     throw Error("need at least two frames, got " + std::to_string(paths.size()) + " (" + paths.front() + ")");
   RunInput in;
   in.description = given.size() == 1 && !folder ? given[0]
                                       : std::filesystem::path(paths.front()).filename().string() + " .. " +
                                             std::filesystem::path(paths.back()).filename().string();
-  // The first frame is held where the reader of the others finds it however `in` is moved.
-  auto first = std::make_shared<TriMesh>(read_mesh(paths[0]));
-  in.meshes.push_back(*first);
+  in.frame_files = paths;
+  in.meshes.push_back(read_mesh(paths[0]));
   in.frames = paths.size();
-  in.frame = [paths, first](std::size_t i) {
-    if (i == 0) return std::vector<Positions>{first->vertices};
-    return std::vector<Positions>{read_frame(paths[i], i, *first, paths[0])};
+  const TriMesh& first = in.meshes[0];
+  in.frame = [paths, &first](std::size_t i) {
+    if (i == 0) return std::vector<Positions>{first.vertices};
+    return std::vector<Positions>{read_frame(paths[i], i, first, paths[0])};
   };
   return in;
 }

@@ -1,7 +1,7 @@
 #pragma once
-/// @file What `mccd run` steps through: frame files (given one by one, as a printf pattern, or
-/// as a folder) or a built-in scene, as a RunInput for run_frames(). Shared by the command
-/// line and the Python module (tools/python), so both read the same frames in the same order.
+/// @file The frames of a sequence on disk, as `mccd run` and `mccd batch` take them: files in
+/// order, one printf pattern, or one folder (its .ply and .obj files in natural order); and
+/// the built-in scenes of `mccd run --scene`. Shared with the Python module (tools/python).
 #include <string>
 #include <vector>
 
@@ -9,25 +9,26 @@
 
 namespace mccd::cli {
 
+/// "frame2" < "frame10": digit runs compared as numbers, the rest as text.
+bool natural_less(const std::string& a, const std::string& b);
+
+/// The frame files `given` names (files, one pattern or one folder), in order. Throws
+/// mccd::Error when there are none or a folder cannot be listed.
+std::vector<std::string> sequence_paths(const std::vector<std::string>& given);
+
+/// Reads the first frame (the triangles) and returns the input of `mccd run` over `given`;
+/// later frames are read on demand. Throws mccd::Error for fewer than two frames.
+RunInput input_from_files(const std::vector<std::string>& given);
+
 /// Built-in scenes are held in memory: their size in thousands of triangles times their
 /// frame count is bounded so that they fit (about 12 kB per thousand triangles and frame).
 constexpr long kMaxSizeTimesFrames = 20000;
-
-/// "frame2" < "frame10": digit runs compared as numbers, the rest as text.
-bool natural_less(const std::string& a, const std::string& b);
-/// The mesh files (.ply, .obj) of a folder, in natural order of their names; throws
-/// mccd::Error when there are none.
-std::vector<std::string> folder_frames(const std::string& dir);
-/// The frames of files given in order, one printf pattern ("frame%03d.ply"), or one folder.
-/// Reads the first frame now (its triangles are the sequence's), the others when asked.
-/// Throws mccd::Error when fewer than two frames are found.
-RunInput input_from_files(const std::vector<std::string>& given);
-/// Refuses a built-in scene of `size_k` thousand triangles and `frames` frames whose
-/// product exceeds kMaxSizeTimesFrames (mccd::Error naming both).
+/// Refuses a built-in scene of `size_k` thousand triangles and `frames` frames whose product
+/// exceeds kMaxSizeTimesFrames (mccd::Error naming both).
 void check_scene_size(int size_k, int frames);
-/// A built-in scene by name (cloth, spheres, random, tube, drape), `size_k` thousand
-/// triangles, `frames` frames; throws mccd::Error when size_k * frames exceeds
-/// kMaxSizeTimesFrames or the name is unknown.
+/// The input of `mccd run --scene NAME`: a built-in scene (cloth, spheres, random, tube,
+/// drape; fixtures/scenes.h) of about `size_k` thousand triangles and `frames` frames, held in
+/// memory. Throws mccd::Error for an unknown name or a scene too large (check_scene_size).
 RunInput input_from_scene(const std::string& name, int size_k, int frames);
 
 }  // namespace mccd::cli

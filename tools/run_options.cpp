@@ -39,13 +39,16 @@ void add_display_options(CLI::App& app, RunSettings& s) {
                "and invalidated nodes, rebuilds, orphan pairs tested), with a legend");
 }
 
-void add_picture_options(CLI::App& app, RunSettings& s, const std::string& default_image) {
+void add_picture_options(CLI::App& app, RunSettings& s, const std::string& moment, const std::string& default_image) {
   app.add_option("--image", s.image,
-                 "draw the meshes at the first contact (the earliest impact of the first sub-step with contacts) "
-                 "as a PNG, the triangles in contact in red (red showing through where they are hidden), from a "
-                 "camera framing them; written after the last step" +
+                 "draw the meshes at " + moment +
+                     " as a PNG (.png) or JPEG (.jpg, .jpeg; other extensions are refused), the triangles in "
+                     "contact in red (red showing through where they are hidden), from a camera framing them, with "
+                     "a caption (what was run, the step and its frame time, the contacts shown) and a legend of "
+                     "every colour used across the top (none in a picture under 245 pixels wide, or where they would "
+                     "take over two fifths of its height); written after the last step" +
                      (default_image.empty() ? std::string() : " (default " + default_image + ")"))
-      ->type_name("FILE.png");
+      ->type_name("FILE.png|FILE.jpg");
   app.add_option_function<std::size_t>(
          "--image-step", [&s](std::size_t k) { s.image_step = k; },
          "show step K (frame K to K+1) instead: its first sub-step with contacts, else its start")

@@ -1,9 +1,9 @@
 #include "run_table.h"
 
 #include <algorithm>
-#include <iterator>
-#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <iterator>
 #include <string>
 
 #include "progress.h"
@@ -24,11 +24,35 @@ std::string duration(double s) {
 
 }  // namespace
 
-std::string impact_text(double t) {
-  if (std::isinf(t)) return "-";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4f", t);
-  return buf;
+FrameNames::FrameNames(const std::vector<std::string>& files) {
+  for (const std::string& f : files) names_.push_back(std::filesystem::path(f).filename().string());
+}
+
+std::string FrameNames::frame(std::size_t i) const {
+  return i < names_.size() ? names_[i] : "frame " + std::to_string(i);
+}
+
+std::string FrameNames::frames(std::size_t a, std::size_t b) const {
+  if (named()) return frame(a) + " to " + frame(b);
+  return "frames " + std::to_string(a) + " to " + std::to_string(b);
+}
+
+std::string FrameNames::step(std::size_t k) const {
+  if (named()) return frames(k, k + 1);
+  return "frame " + std::to_string(k) + " to " + std::to_string(k + 1);
+}
+
+std::string FrameNames::key(std::size_t frames) const {
+  if (!named() || frames == 0) return "";
+  std::string out;
+  auto add = [&](std::size_t i) {
+    out += (out.empty() ? "" : ", ") + std::string("frame ") + std::to_string(i) + " = " + frame(i);
+  };
+  add(0);
+  if (frames > 1) add(1);
+  if (frames > 3) out += ", ...";
+  if (frames > 2) add(frames - 1);
+  return out;
 }
 
 StepAccumulator::PairKey StepAccumulator::key(const Contact& c) {
@@ -71,15 +95,20 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
   return true;
 }
 
-void RunTable::print_legend() const {
-  if (!verbose_) return;
+void RunTable::print_legend(const FrameNames& names, std::size_t frames) const {
+  if (names.named()) std::printf("frames: %s\n", names.key(frames).c_str());
+  if (!verbose_) {
+    std::printf("step k = frame k to k+1; first impact = frame time k + t, t in [0, 1] of the step\n");
+    return;
+  }
   std::printf(
       "columns: step k = frame k to k+1 (its sub-steps together); VF, EE = vertex-face and edge-edge pairs in\n"
       "  contact during the step; vol tests = bounding-volume overlap tests; VF tests, EE tests = elementary tests\n"
       "  run; front = BVTT front nodes after the step (fbd only); sprouted = front nodes added by sprouting;\n"
       "  invalid = front nodes whose volumes overlapped and were expanded; rebuilt = front rebuilt from the root;\n"
       "  orphans = orphan pairs (features of adjacent triangles) tested past their box test; first impact =\n"
-      "  earliest time of impact in frame time (k + t, t in [0, 1]); time = computation time of the step\n");
+      "  earliest time of impact in frame time (k + t, t in [0, 1] of the step; a t below 1e-3 in scientific\n"
+      "  notation, as in 3 + 7.49e-6); time = computation time of the step\n");
 }
 
 void RunTable::print_header() const {
@@ -114,20 +143,30 @@ void RunTotals::add(const StepRow& r) {
   step_seconds += r.stats.t_total;
 }
 
-void print_summary(const RunTotals& t, std::size_t frames, const char* method, int threads, double wall) {
-  const std::string span = "frames 0 to " + std::to_string(frames ? frames - 1 : 0);
-  if (t.vf + t.ee == 0) {
-    std::printf("no collision in %zu step%s (%s)\n", t.steps, t.steps == 1 ? "" : "s", span.c_str());
+void print_summary(const RunTotals& t, const FrameNames& names, const char* method, int threads, double wall,
+                   const RunStop* stop) {
+  if (stop)
+    std::printf("run stopped at step %zu (%s), %zu of %zu step%s finished: %s\n", stop->step,
+                names.step(stop->step).c_str(), t.steps, stop->steps, stop->steps == 1 ? "" : "s", stop->why.c_str());
+  const std::string count = std::to_string(t.steps) + (stop ? " finished step" : " step") + (t.steps == 1 ? "" : "s");
+  const std::string span = names.frames(0, t.steps);
+  if (stop && t.steps == 0) {
+    std::printf("no step finished\n");
+  } else if (t.vf + t.ee == 0) {
+    std::printf("no collision in %s%s (%s)\n", stop ? "the " : "", count.c_str(), span.c_str());
   } else {
-    std::printf("%zu step%s (%s), %zu with contacts: %s contacts (%s vertex-face, %s edge-edge)\n", t.steps,
-                t.steps == 1 ? "" : "s", span.c_str(), t.steps_with_contacts, grouped(t.vf + t.ee).c_str(), grouped(t.vf).c_str(),
-                grouped(t.ee).c_str());
-    std::printf("first impact at frame time %s (step %zu, frame %zu to %zu)\n", impact_text(t.first).c_str(),
-                t.first_step, t.first_step, t.first_step + 1);
+    std::printf("%s (%s), %zu with contacts: %s contacts (%s vertex-face, %s edge-edge)\n", count.c_str(), span.c_str(),
+                t.steps_with_contacts, grouped(t.vf + t.ee).c_str(), grouped(t.vf).c_str(), grouped(t.ee).c_str());
+    std::printf("first impact at frame time %s (step %zu: %s)\n", impact_text(t.first).c_str(), t.first_step,
+                names.step(t.first_step).c_str());
   }
-  std::printf("time: %s in steps, %s per step; %s in all (method %s, %d thread%s)\n", duration(t.step_seconds).c_str(),
-              duration(t.steps ? t.step_seconds / double(t.steps) : 0.0).c_str(), duration(wall).c_str(), method,
-              threads, threads == 1 ? "" : "s");
+  if (t.steps == 0)
+    std::printf("time: %s in all (method %s, %d thread%s)\n", duration(wall).c_str(), method, threads,
+                threads == 1 ? "" : "s");
+  else
+    std::printf("time: %s in steps, %s per step; %s in all (method %s, %d thread%s)\n", duration(t.step_seconds).c_str(),
+                duration(t.step_seconds / double(t.steps)).c_str(), duration(wall).c_str(), method, threads,
+                threads == 1 ? "" : "s");
 }
 
 }  // namespace mccd::cli

@@ -1,13 +1,17 @@
 #pragma once
 /// @file What `mccd run` prints: one row per step (a frame interval, its sub-steps taken
-/// together), the legend of the --verbose columns, and the summary at the end.
+/// together), the legend (the frames' files; the --verbose columns), and the summary at the end,
+/// which names the steps by their files and says where and why a run stopped early.
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <mccd/core/contact.h>
+
+#include "time_text.h"
 
 namespace mccd::cli {
 
@@ -38,11 +42,38 @@ class StepAccumulator {
   std::vector<PairKey> merged_, keys_;
 };
 
+/// How the summary names frames and steps: by the files the frames came from (their names
+/// without the folder), else by number.
+class FrameNames {
+ public:
+  /// Frames named by number ("frame 3").
+  FrameNames() = default;
+  /// Frame i named files[i] without its folder ("cloth_ball92.ply").
+  explicit FrameNames(const std::vector<std::string>& files);
+  /// "cloth_ball92.ply", or "frame 3".
+  std::string frame(std::size_t i) const;
+  /// Frames a to b: "frame000.ply to frame005.ply", or "frames 0 to 5".
+  std::string frames(std::size_t a, std::size_t b) const;
+  /// The step from frame k to k + 1: "cloth_ball92.ply to cloth_ball93.ply", or "frame 3 to 4".
+  std::string step(std::size_t k) const;
+  /// Whether frames are named by files.
+  bool named() const { return !names_.empty(); }
+  /// The frames' files by number, for the table's legend: "frame 0 = a.ply, frame 1 = b.ply"
+  /// (with "..." between the first two and the last when there are more than three); "" when
+  /// not named by files.
+  std::string key(std::size_t frames) const;
+
+ private:
+  std::vector<std::string> names_;
+};
+
 /// The per-step table: step, VF, EE, first impact, time; --verbose adds the statistics.
 class RunTable {
  public:
   explicit RunTable(bool verbose) : verbose_(verbose) {}
-  void print_legend() const;
+  /// What the columns mean; the step numbers' frames (their files) always, the statistics'
+  /// columns with --verbose.
+  void print_legend(const FrameNames& names, std::size_t frames) const;
   void print_header() const;
   void print_row(const StepRow& row) const;
 
@@ -59,11 +90,18 @@ struct RunTotals {
   void add(const StepRow& row);
 };
 
-/// The summary: steps and those with contacts, contacts by kind, the first impact and its
-/// step, time per step. `frames`: frames in the run; `wall`: seconds in all.
-void print_summary(const RunTotals& t, std::size_t frames, const char* method, int threads, double wall);
+/// Why and where a run stopped before its last step.
+struct RunStop {
+  std::size_t steps = 0;  ///< steps in the whole run
+  std::size_t step = 0;   ///< the step it stopped at (the steps before it finished)
+  std::string why;        ///< the error, naming the file and frame
+};
 
-/// "0.0625" (frame time of an impact), or "-" when there is none.
-std::string impact_text(double frame_time);
+/// The summary: steps and those with contacts, contacts by kind, the first impact and its
+/// step (both named by `names`), time per step; `wall`: seconds in all. With `stop`, the
+/// first line says that the run stopped, at which step (its frames) and why, and the totals
+/// are those of the steps finished before it.
+void print_summary(const RunTotals& t, const FrameNames& names, const char* method, int threads, double wall,
+                   const RunStop* stop = nullptr);
 
 }  // namespace mccd::cli

@@ -1,6 +1,7 @@
 #include "snapshot.h"
 
 #include <algorithm>
+#include <filesystem>
 
 #include <mccd/geometry/mesh_io.h>
 
@@ -46,6 +47,7 @@ std::vector<ViewMesh> snapshot_view(const std::vector<TriMesh>& meshes, const st
   std::vector<ViewMesh> view(meshes.size());
   std::vector<VertexFaces> around;
   for (std::size_t m = 0; m < meshes.size(); ++m) {
+    view[m].name = meshes[m].name;
     view[m].faces = meshes[m].faces;
     view[m].positions = start[m];
     view[m].positions.mat() = (1 - u) * start[m].mat() + u * end[m].mat();
@@ -76,9 +78,54 @@ std::size_t highlighted_faces(const std::vector<ViewMesh>& view) {
   return n;
 }
 
-Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera) {
-  const Camera cam = frame_highlight(view, double(width) / double(height), camera);
-  return render(view, cam, width, height);
+std::vector<LegendItem> snapshot_legend(const std::vector<ViewMesh>& view, const RenderUse* use) {
+  const bool lit = highlighted_faces(view) > 0;
+  auto shows = [&](const std::vector<std::size_t> RenderUse::*counts, std::size_t m) {
+    return use ? (use->*counts)[m] > 0 : true;
+  };
+  std::vector<LegendItem> legend;
+  if (use ? use->highlight > 0 : lit) legend.push_back({{highlight_colour()}, "triangles of the contacts shown"});
+  // seen through a surface: one swatch per hue it shows over
+  LegendItem behind{{}, "the same, behind a surface"};
+  for (std::size_t hue = 0; hue < kHues && lit; ++hue)
+    for (std::size_t m = hue; m < view.size(); m += kHues)
+      if (shows(&RenderUse::behind, m)) {
+        behind.swatches.push_back(behind_colour(hue));
+        break;
+      }
+  if (!behind.swatches.empty()) legend.push_back(behind);
+  // the surfaces: one item per hue, naming its meshes
+  for (std::size_t hue = 0; hue < kHues; ++hue) {
+    std::vector<std::string> names;
+    for (std::size_t m = hue; m < view.size(); m += kHues)
+      if (shows(&RenderUse::surface, m))
+        names.push_back(view[m].name.empty() ? "mesh " + std::to_string(m)
+                                             : std::filesystem::path(view[m].name).filename().string());
+    if (names.empty()) continue;
+    std::string label = view.size() == 1 ? "surface" : names[0];
+    for (std::size_t i = 1; i < names.size() && i < 3; ++i) label += ", " + names[i];
+    if (names.size() > 3) label += ", ... (" + std::to_string(names.size()) + " meshes)";
+    legend.push_back({{surface_colour(hue)}, label});
+  }
+  if (use ? use->outline > 0 : !view.empty()) legend.push_back({{outline_colour(0)}, "outline (a jump in depth)"});
+  return legend;
+}
+
+Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera,
+                      const std::vector<std::string>& caption, bool* keyed) {
+  // the band is sized for every colour the picture could show; the legend lists those shown
+  PictureKey key{caption, snapshot_legend(view, nullptr)};
+  const int band = caption.empty() ? 0 : key_height(key, width, height);
+  if (keyed) *keyed = band > 0;
+  const Camera cam = frame_highlight(view, double(width) / double(height - band), camera);
+  RenderUse use;
+  const Image scene = render(view, cam, width, height - band, &use);
+  if (band == 0) return scene;
+  key.legend = snapshot_legend(view, &use);
+  Image out{width, height, std::vector<std::uint8_t>(3 * std::size_t(width) * std::size_t(height))};
+  std::copy(scene.rgb.begin(), scene.rgb.end(), out.rgb.begin() + std::ptrdiff_t(3 * std::size_t(width) * std::size_t(band)));
+  draw_key(out, key, band);
+  return out;
 }
 
 void write_snapshot_ply(const std::string& path, const std::vector<ViewMesh>& view) {

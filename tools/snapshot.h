@@ -1,7 +1,7 @@
 #pragma once
 /// @file The moment `mccd run --image` / `--colored` shows: the meshes at a time of impact,
-/// with the triangles of that sub-step's contacts highlighted, drawn as a PNG or written as a
-/// PLY with per-face colours.
+/// with the triangles of that sub-step's contacts highlighted, drawn as a PNG or JPEG picture
+/// with a key (caption and legend), or written as a PLY with per-face colours.
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +11,8 @@
 
 #include "render/camera.h"
 #include "render/image.h"
+#include "render/key.h"
+#include "render/render.h"
 #include "render/scene_view.h"
 
 namespace mccd::cli {
@@ -45,8 +47,17 @@ class SnapshotPicker {
 std::vector<ViewMesh> snapshot_view(const std::vector<TriMesh>& meshes, const std::vector<Positions>& start,
                                     const std::vector<Positions>& end, const Snapshot& snap);
 
-/// Renders `view` (width x height pixels) framed automatically or by `camera`.
-Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera);
+/// The legend of a picture of `view` that shows the colours in `use`: the highlight, the
+/// highlight seen through each mesh's surface, each mesh's surface (meshes sharing a hue in
+/// one item), the outline; with `use` null, every colour the picture could show.
+std::vector<LegendItem> snapshot_legend(const std::vector<ViewMesh>& view, const RenderUse* use);
+
+/// Renders `view` framed automatically or by `camera` into a width x height picture. With a
+/// `caption` and room for it (key_height()), a key across the top (render/key.h) holds the
+/// caption and the legend of the colours drawn, and the scene is drawn below it; `keyed`,
+/// when given, says whether the picture got its key.
+Image render_snapshot(const std::vector<ViewMesh>& view, int width, int height, const CameraRequest& camera,
+                      const std::vector<std::string>& caption = {}, bool* keyed = nullptr);
 /// Writes `view` as one PLY with per-face colours (highlighted red, others by mesh).
 void write_snapshot_ply(const std::string& path, const std::vector<ViewMesh>& view);
 

@@ -183,6 +183,47 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
         o << " - | - |\n";
     }
 
+  // Work and span: the prediction of every thread count from one measured 1-thread run.
+  bool any_ws = false;
+  for (const VariantSummary& v : variants) any_ws = any_ws || v.config == "work-span";
+  if (any_ws) {
+    o << "\n## Work and span\n\nEach method once on 1 thread with its stages' work and span measured (every task "
+         "of every\nparallel loop timed; the search and the self stage as one branch). Predicted ms/frame on P "
+         "threads:\nthe time outside the stages plus, per stage, span + (work - span) / P; beside it the measured "
+         "median\n(error = predicted / measured - 1). Memory bandwidth and scheduling costs are not in the model.\n\n"
+         "| scene | method | stage | work ms/frame | span ms/frame | parallelism |\n| --- | --- | --- | --- | --- | --- |\n";
+    for (const VariantSummary& v : variants) {
+      if (v.config != "work-span") continue;
+      const StepStats& s = v.counts.sum;
+      const double k = 1.0 / std::max(v.counts.intervals, 1);
+      const std::pair<const char*, WorkSpan> stages[] = {
+          {"update", s.ws_update}, {"refit", s.ws_refit}, {"search", s.ws_search},
+          {"self", s.ws_self},     {"search + self", s.ws_branch}, {"join", s.ws_join}};
+      for (const auto& [name, ws] : stages)
+        o << "| " << v.scene << " | " << to_string(v.method) << " | " << name << " | " << num(1e3 * ws.work * k, 3)
+          << " | " << num(1e3 * ws.span * k, 3) << " | " << num(ws.span > 0 ? ws.work / ws.span : NAN, 1) << " |\n";
+    }
+    o << "\n| scene | method | threads | predicted ms/frame | measured ms/frame | error |\n| --- | --- | --- | --- | --- | --- |\n";
+    for (const VariantSummary& v : variants) {
+      if (v.config != "work-span") continue;
+      std::vector<int> shown;
+      for (const VariantSummary& w : variants)
+        if (w.scene == v.scene && w.config == "default" && w.method == v.method) shown.push_back(w.threads);
+      for (int t : {16}) if (std::find(shown.begin(), shown.end(), t) == shown.end()) shown.push_back(t);
+      for (int t : shown) {
+        const double p = predicted_ms(v.counts, t);
+        double measured = NAN;
+        for (const VariantSummary& w : variants)
+          if (w.scene == v.scene && w.config == "default" && w.method == v.method && w.threads == t)
+            measured = w.median_ms[kStep];
+        o << "| " << v.scene << " | " << to_string(v.method) << " | " << t << " | " << num(p, 2) << " | "
+          << num(measured, 2) << " | "
+          << (std::isnan(measured) ? std::string("(predicted only)") : num(100 * (p / measured - 1), 1) + "%")
+          << " |\n";
+      }
+    }
+  }
+
   o << "\n## How the serial fraction is estimated\n\n"
        "Amdahl's law: T(p) = T(1) (s + (1 - s)/p). With r_p = T(p)/T(1), the least-squares fit over the thread\n"
        "counts p > 1 is s = sum_p (r_p - 1/p)(1 - 1/p) / sum_p (1 - 1/p)^2, clamped to [0, 1]; with 1 and 2\n"

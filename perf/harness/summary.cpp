@@ -57,6 +57,12 @@ double serial_fraction(const std::vector<std::pair<int, double>>& points) {
 
 double amdahl_speedup(double s, int threads) { return 1.0 / (s + (1 - s) / threads); }
 
+double predicted_ms(const RunRecord& measured, int threads) {
+  StepStats s = measured.sum;
+  s.t_total = measured.wall_ms / 1e3;  // the whole of every step, as the timed runs measure it
+  return 1e3 * s.predicted_seconds(threads) / std::max(measured.intervals, 1);
+}
+
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs) {
   std::vector<VariantSummary> out;
   std::map<std::tuple<std::string, std::string, int, int>, std::vector<const RunRecord*>> timed;

@@ -44,6 +44,11 @@ double serial_fraction(const std::vector<std::pair<int, double>>& points);
 /// 1 / (s + (1 - s) / threads).
 double amdahl_speedup(double s, int threads);
 
+/// The ms per frame interval that a run measured with its stages' work and span (config
+/// "work-span", 1 thread) predicts on `threads` threads: its time outside the stages, plus each
+/// stage's span + (work - span) / threads (StepStats::predicted_seconds).
+double predicted_ms(const RunRecord& measured, int threads);
+
 /// Groups runs by (scene, configuration, method, threads), in the order they first appear.
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs);
 

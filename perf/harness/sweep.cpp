@@ -82,6 +82,21 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
     for (int run = 1; run <= options.repeats; ++run)
       for (int threads : options.threads) record(m, threads, run);
   }
+  if (options.work_span_runs) {
+    SceneOptions measured;
+    measured.work_span = true;
+    for (Method m : options.methods) {
+      RunRecord rec = run_once(w, m, 1, nullptr, &reference, measured);
+      rec.config = "work-span";
+      if (options.progress) {
+        char line[200];
+        std::snprintf(line, sizeof line, "%-20s %-8s %2d thread   %-17s %9.2f ms per frame", w.name.c_str(),
+                      to_string(m), 1, "work and span", rec.wall_ms / rec.intervals);
+        options.progress(line);
+      }
+      out.push_back(std::move(rec));
+    }
+  }
   if (options.paper_runs) {
     SceneOptions paper;
     paper.bvh = BvhBuild::Median;

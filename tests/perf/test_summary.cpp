@@ -114,3 +114,18 @@ TEST(HarnessReport, MachineNameIsAFolderName) {
   for (char c : name) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.') << name;
   EXPECT_EQ(name.back(), 't');
 }
+
+TEST(HarnessSummary, WorkSpanPredictsEachStageAndTheTimeOutside) {
+  // 2 intervals, 10 ms in all: update W 2 / S 1, refit W 1 / S 1 (serial), the branch W 4 /
+  // S 0.5, join W 1 / S 0.25; 2 ms outside the stages. On 4 threads: 2 + (1 + 1/4) + 1 +
+  // (0.5 + 3.5/4) + (0.25 + 0.75/4) = 6.0625 ms, per interval half of it.
+  RunRecord r;
+  r.intervals = 2, r.wall_ms = 10;
+  r.sum.ws_update = {2e-3, 1e-3};
+  r.sum.ws_refit = {1e-3, 1e-3};
+  r.sum.ws_branch = {4e-3, 0.5e-3};
+  r.sum.ws_join = {1e-3, 0.25e-3};
+  EXPECT_NEAR(predicted_ms(r, 4), 6.0625 / 2, 1e-12);
+  EXPECT_NEAR(predicted_ms(r, 1), 5.0, 1e-12);  // one thread: the measured time itself
+  EXPECT_NEAR(r.sum.ws_branch.predict(1e9), 0.5e-3, 1e-11);  // never below the span
+}

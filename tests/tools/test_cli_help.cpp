@@ -39,6 +39,35 @@ TEST(CliHelp, TopLevelListsEveryCommandAndTheExitStatuses) {
   EXPECT_NE(r.out.find("mccd demo"), std::string::npos) << r.out;
 }
 
+namespace {
+/// `text` with every run of spaces and line breaks as one space (the help is wrapped).
+std::string flat(const std::string& text) {
+  std::string out;
+  for (const char c : text)
+    if (c != ' ' && c != '\n') out.push_back(c);
+    else if (!out.empty() && out.back() != ' ') out.push_back(' ');
+  return out;
+}
+}  // namespace
+
+// Issue 36: the demo's help says one thing about the step its picture shows (the demo's own
+// behaviour is checked in CliDemo and CliImage), and run's help another.
+TEST(CliHelp, ThePictureStepIsTheOneTheCommandDraws) {
+  const std::string demo = flat(run_cli({"demo", "--help"}).out);
+  EXPECT_NE(demo.find("draws the picture (demo.png, or --image) of step (frames - 1) * 2 / 5, two fifths of the way "
+                      "through (step 17 of the default 45 frames)"),
+            std::string::npos)
+      << demo;
+  EXPECT_NE(demo.find("--image FILE.png|FILE.jpg draw the meshes at step (frames - 1) * 2 / 5"), std::string::npos)
+      << demo;
+  EXPECT_EQ(demo.find("earliest impact of the first sub-step with contacts"), std::string::npos) << demo;
+  const std::string run = flat(run_cli({"run", "--help"}).out);
+  EXPECT_NE(run.find("--image FILE.png|FILE.jpg draw the meshes at the first contact (the earliest impact of the "
+                     "first sub-step with contacts) as a PNG (.png) or JPEG (.jpg, .jpeg"),
+            std::string::npos)
+      << run;
+}
+
 TEST(CliHelp, Version) {
   const auto r = run_cli({"--version"});
   EXPECT_EQ(r.status, 0);

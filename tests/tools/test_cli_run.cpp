@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -79,6 +82,30 @@ std::vector<std::string> table_rows(const std::string& out) {
   return rows;
 }
 
+/// The columns of a table row: step, VF, EE, first impact (which may be "3 + 7.49e-6"), time.
+struct Row {
+  std::size_t step = 0;
+  std::string vf, ee, first;
+};
+Row parse_row(const std::string& line) {
+  std::istringstream in(line);
+  Row r;
+  in >> r.step >> r.vf >> r.ee >> r.first;
+  std::string plus, t;
+  if (in >> plus && plus == "+" && in >> t) r.first += " + " + t;
+  return r;
+}
+
+/// The step of the first table row with contacts (the number of rows when none has).
+std::size_t first_row_with_contacts(const std::string& out) {
+  const std::vector<std::string> rows = table_rows(out);
+  for (const std::string& line : rows) {
+    const Row r = parse_row(line);
+    if (r.vf != "0" || r.ee != "0") return r.step;
+  }
+  return rows.size();
+}
+
 }  // namespace
 
 TEST(CliRun, TableSummaryAndContactsCsvMatchTheLibrary) {
@@ -90,8 +117,12 @@ TEST(CliRun, TableSummaryAndContactsCsvMatchTheLibrary) {
   const std::vector<std::string> lines = lines_of(r.out);
   ASSERT_GE(lines.size(), 2u);
   EXPECT_NE(lines[0].find("6 frames, 169 vertices, 288 triangles; method fbd"), std::string::npos) << r.out;
+  // the legend (the frames' files, what a step and the times are), then the header
+  ASSERT_GE(lines.size(), 4u);
+  EXPECT_EQ(lines[1], "frames: frame 0 = frame000.ply, frame 1 = frame001.ply, ..., frame 5 = frame005.ply");
+  EXPECT_EQ(lines[2].rfind("step k = frame k to k+1; first impact = frame time k + t", 0), 0u) << lines[2];
   for (const char* column : {"step", "VF", "EE", "first impact", "time"})
-    EXPECT_NE(lines[1].find(column), std::string::npos) << lines[1];
+    EXPECT_NE(lines[3].find(column), std::string::npos) << lines[3];
   EXPECT_EQ(table_rows(r.out).size(), 5u) << r.out;
 
   const std::vector<std::string> expected = library_rows(cloth.scene, 1, 5);
@@ -101,7 +132,8 @@ TEST(CliRun, TableSummaryAndContactsCsvMatchTheLibrary) {
   EXPECT_EQ(rows.front(), "frame,substep,kind,mesh_a,feature_a,mesh_b,feature_b,v0,v1,v2,v3,toi,t");
   rows.erase(rows.begin());
   EXPECT_EQ(rows, expected);
-  EXPECT_NE(r.out.find("5 steps (frames 0 to 5)"), std::string::npos) << r.out;
+  // steps named by their files (issue 36): the summary and the first-impact line
+  EXPECT_NE(r.out.find("5 steps (frame000.ply to frame005.ply)"), std::string::npos) << r.out;
   const std::string digits = std::to_string(expected.size());
   std::string count;  // grouped by thousands, as printed
   for (std::size_t i = 0; i < digits.size(); ++i) {
@@ -110,7 +142,14 @@ TEST(CliRun, TableSummaryAndContactsCsvMatchTheLibrary) {
   }
   count.append(" contacts (");
   EXPECT_NE(r.out.find(count), std::string::npos) << r.out;
+  // the first impact's step is the first row with contacts, named by its two files
+  const std::size_t first_step = first_row_with_contacts(r.out);
+  ASSERT_LT(first_step, 5u) << r.out;
+  char step_files[96];
+  std::snprintf(step_files, sizeof step_files, " (step %zu: frame%03zu.ply to frame%03zu.ply)\n", first_step, first_step,
+                first_step + 1);
   EXPECT_NE(r.out.find("first impact at frame time "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(step_files), std::string::npos) << step_files << "\n" << r.out;
   EXPECT_EQ(cloth.dir.names().size(), 7u);  // 6 frames and the CSV, nothing temporary
 }
 
@@ -161,7 +200,7 @@ TEST(CliRun, ExitStatuses) {
   const std::string calm = write_frames(dir.path(), "calm", grid, frames);
   auto r = run_cli({"run", calm});
   EXPECT_EQ(r.status, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("no collision in 3 steps (frames 0 to 3)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no collision in 3 steps (calm000.ply to calm003.ply)"), std::string::npos) << r.out;
 
   r = run_cli({"run", "--scene", "cloth", "--size", "1", "--frames", "6", "--quiet"});
   EXPECT_EQ(r.status, 1) << r.err;
@@ -170,6 +209,146 @@ TEST(CliRun, ExitStatuses) {
   r = run_cli({"run", (dir.path() / "missing%03d.ply").string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+}
+
+namespace {
+
+/// Two triangles of one mesh, written as `frames` frame files: a large one lying at z = 0 and
+/// a small one whose apex is `gap` above the plane in the even frames and 0.5 lower in the odd
+/// ones. In every step the apex goes through the large triangle: downwards at local time
+/// 2 gap (steps 0, 2, ...), upwards at 1 - 2 gap (steps 1, 3, ...).
+std::string write_piercing_frames(const fs::path& dir, double gap, int frames) {
+  mccd::TriMesh m;
+  m.vertices = mccd::Positions{mccd::Vec3(-1, -1, 0), mccd::Vec3(1, -1, 0),  mccd::Vec3(0, 1, 0),
+                               mccd::Vec3(0, 0, gap),  mccd::Vec3(0.1, 0, 1), mccd::Vec3(0, 0.1, 1)};
+  m.faces = {{0, 1, 2}, {3, 4, 5}};
+  std::vector<mccd::Positions> f(std::size_t(frames), m.vertices);
+  for (std::size_t i = 1; i < f.size(); i += 2)
+    for (std::size_t v = 3; v < 6; ++v) f[i](v, 2) -= 0.5;
+  return write_frames(dir, "pierce", m, f);
+}
+
+}  // namespace
+
+// Issue 36: an impact 2.5e-5 into a step used to print as 0.0000 (the frame itself), and one
+// just before the next frame may not round up to it.
+TEST(CliRun, TimesOfImpactKeepTheirDigits) {
+  ScratchDir dir("mccd_cli_toi_digits");
+  const std::string pattern = write_piercing_frames(dir.path(), 1.25e-5, 4);
+  const std::string csv = dir.file("c.csv");
+  const auto r = run_cli({"run", pattern, "--contacts", csv});
+  ASSERT_EQ(r.status, 1) << r.err;
+  // every step's earliest impact, with every digit, from the contacts file
+  std::vector<double> earliest(3, std::numeric_limits<double>::infinity());
+  std::vector<std::string> csv_rows = lines_of(slurp(csv));
+  ASSERT_GE(csv_rows.size(), 4u);
+  for (std::size_t i = 1; i < csv_rows.size(); ++i) {
+    std::vector<std::string> field;
+    std::istringstream in(csv_rows[i]);
+    for (std::string f; std::getline(in, f, ',');) field.push_back(f);
+    ASSERT_EQ(field.size(), 13u) << csv_rows[i];
+    const std::size_t step = std::stoul(field[0]);
+    ASSERT_LT(step, 3u);
+    earliest[step] = std::min(earliest[step], std::stod(field[11]));
+  }
+  EXPECT_NEAR(earliest[0], 2.5e-5, 1e-6);
+  EXPECT_NEAR(earliest[1], 2 - 2.5e-5, 1e-6);
+  EXPECT_NEAR(earliest[2], 2 + 2.5e-5, 1e-6);
+
+  const std::vector<std::string> rows = table_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Row row = parse_row(rows[k]);
+    ASSERT_EQ(row.step, k);
+    // the printed time read back: the step's frame, then the time within it to its digits
+    const std::size_t plus = row.first.find(" + ");
+    const double t = plus == std::string::npos ? std::stod(row.first) - double(k) : std::stod(row.first.substr(plus + 3));
+    EXPECT_EQ(std::floor(std::stod(row.first)), double(k)) << rows[k];
+    EXPECT_NEAR(t, earliest[k] - double(k), 5e-3 * (earliest[k] - double(k))) << rows[k];
+  }
+  EXPECT_EQ(parse_row(rows[0]).first.substr(0, 3), "2.5") << rows[0];
+  EXPECT_NE(parse_row(rows[0]).first.find("e-5"), std::string::npos) << rows[0];
+  EXPECT_EQ(parse_row(rows[1]).first.substr(0, 6), "1.9999") << rows[1];
+  EXPECT_EQ(parse_row(rows[2]).first.substr(0, 8), "2 + 2.5e") << rows[2];
+  EXPECT_NE(r.out.find("first impact at frame time " + parse_row(rows[0]).first +
+                       " (step 0: pierce000.ply to pierce001.ply)\n"),
+            std::string::npos)
+      << r.out;
+}
+
+// Issue 36: a run that fails says so in its summary (where and why), never "no collision in 0
+// steps"; the exit status stays 2 and the error stays on stderr.
+TEST(CliRun, AFailedRunSaysInItsSummaryWhereAndWhy) {
+  ClothFiles cloth;
+  const std::vector<mccd::Positions> frames = cloth.frames();
+  const std::string bad = write_frames(cloth.dir.path(), "bad", cloth.scene.meshes[0], frames);
+  mccd::TriMesh broken = cloth.scene.meshes[0];
+  broken.vertices = frames[1];
+  std::swap(broken.faces[7][0], broken.faces[7][1]);
+  mccd::write_ply(cloth.dir.file("bad001.ply"), broken);
+  auto r = run_cli({"run", bad});
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.err.find("bad001.ply (frame 1): face 7 is"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("run stopped at step 0 (bad000.ply to bad001.ply), 0 of 5 steps finished: " +
+                       cloth.dir.file("bad001.ply") + " (frame 1): face 7 is"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\nno step finished\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("no collision"), std::string::npos) << r.out;
+  EXPECT_TRUE(table_rows(r.out).empty()) << r.out;
+
+  // stopped after steps without contacts: "in the finished steps", named by their files
+  ScratchDir dir("mccd_cli_failed_calm");
+  mccd::TriMesh grid = mccd::make_folding_cloth(6, 2).meshes[0];
+  std::vector<mccd::Positions> calm(4, grid.vertices);
+  for (std::size_t f = 0; f < calm.size(); ++f)
+    for (std::size_t v = 0; v < calm[f].rows(); ++v) calm[f](v, 0) += 0.1 * double(f);
+  const std::string pattern = write_frames(dir.path(), "calm", grid, calm);
+  mccd::TriMesh short_mesh = grid;
+  short_mesh.vertices = calm[3];
+  short_mesh.faces.pop_back();
+  mccd::write_ply(dir.file("calm003.ply"), short_mesh);
+  r = run_cli({"run", pattern, "--quiet"});
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("run stopped at step 2 (calm002.ply to calm003.ply), 2 of 3 steps finished: " +
+                       dir.file("calm003.ply") + " (frame 3): has "),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\nno collision in the 2 finished steps (calm000.ply to calm002.ply)\n"), std::string::npos)
+      << r.out;
+
+  // stopped after steps with contacts (the cloth's last step): their totals and first impact
+  std::vector<mccd::Positions> more = frames;
+  more.push_back(frames.back());
+  const std::string longer = write_frames(cloth.dir.path(), "more", cloth.scene.meshes[0], more);
+  broken.vertices = frames.back();
+  mccd::write_ply(cloth.dir.file("more006.ply"), broken);
+  r = run_cli({"run", longer, "--quiet"});
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("run stopped at step 5 (more005.ply to more006.ply), 5 of 6 steps finished: " +
+                       cloth.dir.file("more006.ply") + " (frame 6): face 7 is"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\n5 finished steps (more000.ply to more005.ply), 1 with contacts: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" (step 4: more004.ply to more005.ply)\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("first impact at frame time 4"), r.out.find("\nfirst impact at") + 1) << r.out;
+}
+
+// Issue 36: a path that is not there is named as such, not counted as a frame.
+TEST(CliRun, AMissingPathIsNamedAsSuch) {
+  ScratchDir dir("mccd_cli_missing");
+  auto r = run_cli({"run", "nonexistent"}, dir.path());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "mccd run: error: nonexistent: cannot open: No such file or directory\n");
+  EXPECT_EQ(r.out, "");
+  mccd::write_ply(dir.file("a.ply"), mccd::make_folding_cloth(2, 2).meshes[0]);
+  r = run_cli({"run", "a.ply", "b.ply"}, dir.path());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "mccd run: error: b.ply: cannot open: No such file or directory\n");
+  // one frame that is there is still one too few
+  r = run_cli({"run", "a.ply"}, dir.path());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("need at least two frames, got 1 (a.ply)"), std::string::npos) << r.err;
 }
 
 TEST(CliRun, AFolderOfFramesInNaturalOrder) {
@@ -261,6 +440,11 @@ TEST(CliRun, FailureAtTheLastFrameKeepsTheEarlierSteps) {
   EXPECT_NE(r.err.find("bad005.ply (frame 5): face 7"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(csv + " keeps the 4 finished steps, marked incomplete"), std::string::npos) << r.err;
   EXPECT_EQ(table_rows(r.out).size(), 4u) << r.out;
+  EXPECT_NE(r.out.find("run stopped at step 4 (bad004.ply to bad005.ply), 4 of 5 steps finished: "), std::string::npos)
+      << r.out;
+  // the cloth folds onto itself in its last step only
+  EXPECT_NE(r.out.find("\nno collision in the 4 finished steps (bad000.ply to bad004.ply)\n"), std::string::npos)
+      << r.out;
   std::vector<std::string> rows = lines_of(slurp(csv));
   ASSERT_GE(rows.size(), 2u);
   EXPECT_EQ(rows.back().rfind("# incomplete: ", 0), 0u) << rows.back();
@@ -341,7 +525,8 @@ TEST(CliDemo, WritesDemoPngWhereItRuns) {
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("dropped onto a ball"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" with contacts: "), std::string::npos) << r.out;  // genuine contacts
-  EXPECT_NE(r.out.find("picture: demo.png"), std::string::npos) << r.out;
+  // the step --help promises: (frames - 1) * 2 / 5
+  EXPECT_NE(r.out.find("picture: demo.png (step 7 at frame time 7"), std::string::npos) << r.out;
   EXPECT_EQ(slurp(here.path() / "demo.png").substr(1, 3), "PNG");
   EXPECT_EQ(here.names(), std::vector<std::string>{"demo.png"});
 }

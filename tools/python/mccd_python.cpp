@@ -294,7 +294,7 @@ py::dict counters_dict(const CcdCounters& c) {
                   "fallbacks"_a = c.fallbacks, "pieces"_a = c.pieces, "hits"_a = c.hits, "touches"_a = c.touches);
 }
 
-/// Every field of StepStats under its C++ name (the two CcdCounters as nested dicts).
+/// Every field of StepStats under its C++ name (CcdCounters and WorkSpan as nested dicts).
 py::dict stats_dict(const StepStats& s) {
   py::dict d;
   d["method"] = to_string(s.method);
@@ -329,6 +329,10 @@ py::dict stats_dict(const StepStats& s) {
   d["t_self"] = s.t_self;
   d["t_contacts"] = s.t_contacts;
   d["t_total"] = s.t_total;
+  const std::pair<const char*, const WorkSpan*> ws[] = {{"ws_update", &s.ws_update}, {"ws_refit", &s.ws_refit},
+                                                        {"ws_search", &s.ws_search}, {"ws_self", &s.ws_self},
+                                                        {"ws_branch", &s.ws_branch}, {"ws_join", &s.ws_join}};
+  for (const auto& [name, w] : ws) d[name] = py::dict("work"_a = w->work, "span"_a = w->span);
   return d;
 }
 
@@ -361,7 +365,8 @@ struct PyScene {
 
   PyScene(const py::sequence& meshes, const std::string& method, std::optional<int> threads_, double min_distance,
           py::handle is_static, py::handle self_collision, const std::string& volume, const std::string& bvh,
-          unsigned leaf_size, const std::string& representatives, bool self_culling, std::size_t max_front_bytes)
+          unsigned leaf_size, const std::string& representatives, bool self_culling, std::size_t max_front_bytes,
+          bool work_span)
       : threads(threads_) {
     if (py::isinstance<py::str>(meshes) || py::isinstance<py::array>(meshes))
       throw Error("meshes: expected a list of (V, F) tuples");
@@ -376,6 +381,7 @@ struct PyScene {
     o.min_distance = min_distance;
     o.self_culling = self_culling;
     o.max_front_bytes = max_front_bytes;
+    o.work_span = work_span;
     const std::vector<bool> st = per_mesh_flags(is_static, "static", ms.size(), false);
     const std::vector<bool> sc = per_mesh_flags(self_collision, "self_collision", ms.size(), true);
     for (std::size_t m = 0; m < ms.size(); ++m) o.meshes.push_back({st[m], sc[m]});
@@ -552,7 +558,7 @@ PyRunResult run(py::object frames, std::optional<std::string> scene, int size, i
   check_range("image_size height", image_size.second, 16, 4096);
   st.image_width = image_size.first, st.image_height = image_size.second;
   st.camera = camera.value_or("");
-  st.silent = st.quiet = true;
+  st.silent = st.quiet = st.mute = true;
   st.exit_zero = true;
 
   std::vector<cli::StepRow> rows;
@@ -631,7 +637,7 @@ constexpr const char* kSceneDoc = R"(A scene of triangle meshes, stepped over ti
 
 Scene(meshes, *, method="fbd", threads=None, min_distance=0.0, static=None,
       self_collision=None, volume="kdop18", bvh="sah", leaf_size=0,
-      representatives="default", self_culling=True, max_front_bytes=0)
+      representatives="default", self_culling=True, max_front_bytes=0, work_span=False)
 
 meshes: a list of (V, F) or (V, F, name) tuples. V: n x 3 coordinates (float64 or float32, or
     any real dtype, converted); F: m x 3 vertex indices (any integer dtype). Both are copied
@@ -647,13 +653,14 @@ static: a bool, or one bool per mesh: a static mesh keeps its initial positions 
     another static mesh.
 self_collision: a bool, or one bool per mesh: whether a mesh's own triangles are tested
     against each other (default True; off for rigid bodies).
-volume, bvh, leaf_size, representatives, self_culling, max_front_bytes: as SceneOptions in
-    C++ (core/options.h); none of them changes the contacts.
+volume, bvh, leaf_size, representatives, self_culling, max_front_bytes, work_span: as
+    SceneOptions in C++ (core/options.h); none of them changes the contacts (work_span fills
+    the stats' ws_* entries: each stage's work and span).
 
 Raises mccd.Error for a bad mesh (shape, dtype, an index out of range, a repeated index in a
 face, a non-finite coordinate) or option.)";
 
-constexpr const char* kInitDoc = R"(__init__(meshes, *, method="fbd", threads=None, min_distance=0.0, static=None, self_collision=None, volume="kdop18", bvh="sah", leaf_size=0, representatives="default", self_culling=True, max_front_bytes=0)
+constexpr const char* kInitDoc = R"(__init__(meshes, *, method="fbd", threads=None, min_distance=0.0, static=None, self_collision=None, volume="kdop18", bvh="sah", leaf_size=0, representatives="default", self_culling=True, max_front_bytes=0, work_span=False)
 
 Builds the scene (its BVH and connectivity) from copies of the meshes; see help(mccd.Scene).)";
 
@@ -804,11 +811,11 @@ stats: a dict of what the step did (test counts, front size, stage times t_* in 
 
   py::class_<PyScene>(m, "Scene", kSceneDoc)
       .def(py::init<const py::sequence&, const std::string&, std::optional<int>, double, py::handle, py::handle,
-                    const std::string&, const std::string&, unsigned, const std::string&, bool, std::size_t>(),
+                    const std::string&, const std::string&, unsigned, const std::string&, bool, std::size_t, bool>(),
            "meshes"_a, py::kw_only(), "method"_a = "fbd", "threads"_a = py::none(), "min_distance"_a = 0.0,
            "static"_a = py::none(), "self_collision"_a = py::none(), "volume"_a = "kdop18", "bvh"_a = "sah",
            "leaf_size"_a = 0u, "representatives"_a = "default", "self_culling"_a = true, "max_front_bytes"_a = 0u,
-           kInitDoc)
+           "work_span"_a = false, kInitDoc)
       .def(
           "step",
           [](PyScene& s, py::handle start, py::handle end, std::optional<std::string> method) {

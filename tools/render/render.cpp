@@ -13,6 +13,20 @@ constexpr int kSuper = 2;  // samples per pixel along each axis
 using Rgb = std::array<float, 3>;
 constexpr Rgb kHighlight{0.90f, 0.12f, 0.08f};
 constexpr Rgb kPalette[] = {{0.72f, 0.78f, 0.86f}, {0.86f, 0.80f, 0.64f}, {0.70f, 0.84f, 0.72f}, {0.84f, 0.74f, 0.84f}};
+static_assert(std::size(kPalette) == kHues);
+constexpr float kBehind = 0.38f;   // weight of the highlight seen through a surface
+constexpr float kOutline = 0.35f;  // brightness left on an outline
+
+Rgb mix_behind(const Rgb& surface) {
+  Rgb c;
+  for (int k = 0; k < 3; ++k) c[k] = (1 - kBehind) * surface[k] + kBehind * kHighlight[k];
+  return c;
+}
+
+Rgb8 to_rgb8(const Rgb& c) {
+  auto byte = [](float v) { return std::uint8_t(std::lround(255.0 * std::clamp(v, 0.f, 1.f))); };
+  return {byte(c[0]), byte(c[1]), byte(c[2])};
+}
 
 /// Camera space: right, up, forward unit vectors; projection to sample coordinates.
 struct View {
@@ -99,6 +113,14 @@ void draw(const std::vector<ViewMesh>& meshes, const View& view, Buffers& buf) {
 
 }  // namespace
 
+Rgb8 surface_colour(std::size_t m) { return to_rgb8(kPalette[m % kHues]); }
+Rgb8 highlight_colour() { return to_rgb8(kHighlight); }
+Rgb8 behind_colour(std::size_t m) { return to_rgb8(mix_behind(kPalette[m % kHues])); }
+Rgb8 outline_colour(std::size_t m) {
+  const Rgb& p = kPalette[m % kHues];
+  return to_rgb8({kOutline * p[0], kOutline * p[1], kOutline * p[2]});
+}
+
 std::size_t visible_highlight(const std::vector<ViewMesh>& meshes, const Camera& camera, int width, int height) {
   const View view(camera, width, height);
   Buffers buf(width, height);
@@ -110,13 +132,17 @@ std::size_t visible_highlight(const std::vector<ViewMesh>& meshes, const Camera&
   return n;
 }
 
-Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int width, int height) {
+Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int width, int height, RenderUse* use) {
   const int w = width * kSuper, h = height * kSuper;
   const View view(camera, w, h);
   Buffers buf(w, h);
   draw(meshes, view, buf);
-  std::vector<Rgb> colour;
+  // per face: its colour, and its colour with a highlighted triangle behind it (the mix
+  // shaded like the surface, so that it reads as a shade of the legend's swatch)
+  std::vector<Rgb> colour, colour_behind;
   std::vector<std::uint8_t> face_lit;
+  std::vector<std::uint32_t> face_mesh;
+  if (use) *use = RenderUse{std::vector<std::size_t>(meshes.size()), 0, std::vector<std::size_t>(meshes.size()), 0};
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     const ViewMesh& mesh = meshes[m];
     const Rgb& base = kPalette[m % std::size(kPalette)];
@@ -127,7 +153,9 @@ Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int widt
       n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(-view.forward);
       const bool lit = mesh.highlight[f] != 0;
       colour.push_back(shade(lit ? kHighlight : base, n, view, (a + b + c) / 3));
+      colour_behind.push_back(shade(mix_behind(base), n, view, (a + b + c) / 3));
       face_lit.push_back(lit);
+      face_mesh.push_back(std::uint32_t(m));
     }
   }
   // resolve each sample, then average kSuper x kSuper samples per pixel
@@ -146,15 +174,24 @@ Image render(const std::vector<ViewMesh>& meshes, const Camera& camera, int widt
             const float g = 0.97f - 0.12f * float(Y) / float(h);
             c = {g, g, g + 0.01f};
           } else {
-            c = colour[std::size_t(id)];
-            if (!face_lit[std::size_t(id)] && buf.lit_inv_depth[at] > 0)
-              for (int k = 0; k < 3; ++k) c[k] = 0.62f * c[k] + 0.38f * kHighlight[k];
+            const bool lit = face_lit[std::size_t(id)] != 0, behind = !lit && buf.lit_inv_depth[at] > 0;
+            c = behind ? colour_behind[std::size_t(id)] : colour[std::size_t(id)];
             // outline: the depth of a neighbour differs a lot, or it is background
             const float z = 1.f / buf.inv_depth[at];
+            bool outlined = false;
             for (const std::size_t nb : {X + 1 < w ? at + 1 : at, Y + 1 < h ? at + std::size_t(w) : at}) {
               const float zn = buf.inv_depth[nb] > 0 ? 1.f / buf.inv_depth[nb] : 1e30f;
-              if (std::abs(zn - z) > outline * z)
-                for (float& ch : c) ch *= 0.35f;
+              if (std::abs(zn - z) > outline * z) {
+                for (float& ch : c) ch *= kOutline;
+                outlined = true;
+              }
+            }
+            if (use) {
+              const std::uint32_t m = face_mesh[std::size_t(id)];
+              if (outlined) ++use->outline;
+              else if (lit) ++use->highlight;
+              else if (behind) ++use->behind[m];
+              else ++use->surface[m];
             }
           }
           for (int k = 0; k < 3; ++k) sum[k] += c[k];

@@ -68,6 +68,7 @@ class Scene:
         representatives: str = "default",
         self_culling: bool = True,
         max_front_bytes: int = 0,
+        work_span: bool = False,
     ) -> None:
         """method: "fbd" (default), "phc", "traverse" or "bruteforce" (identical contacts);
         threads: None (the caller's oneTBB arena) or the size of the scene's own arena;

@@ -207,3 +207,18 @@ def test_stubs_declare_every_public_name():
     members = {n.name for n in scene_stub.body if isinstance(n, ast.FunctionDef)}
     public = {n for n in dir(mccd.Scene) if not n.startswith("__")}
     assert public <= members, public - members
+
+
+def test_stats_carry_every_counter_and_the_work_and_span_when_asked():
+    meshes, frames = mccd.make_scene("cloth", 2, 3)
+    plain = mccd.Scene(meshes).step(frames[1], frames[2])
+    measured = mccd.Scene(meshes, work_span=True).step(frames[1], frames[2])
+    assert np.array_equal(plain.contacts, measured.contacts)
+    for key in ("t_update", "t_refit", "t_front", "t_self", "t_contacts", "t_total", "front_size", "leaf_pairs"):
+        assert key in plain.stats
+    assert plain.stats["vf_contacts"] + plain.stats["ee_contacts"] == len(plain)
+    assert set(plain.stats["vf_ccd"]) >= {"queries", "hits", "fallbacks"}
+    stages = ("ws_update", "ws_refit", "ws_search", "ws_self", "ws_branch", "ws_join")
+    assert all(plain.stats[s] == {"work": 0.0, "span": 0.0} for s in stages)
+    assert measured.stats["ws_search"]["work"] > 0
+    assert all(0 <= measured.stats[s]["span"] <= measured.stats[s]["work"] + 1e-9 for s in stages)
