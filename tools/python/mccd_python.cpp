@@ -18,10 +18,14 @@
 
 #include <bit>
 #include <cctype>
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <mutex>
 #include <ctime>
 #include <optional>
 #include <string>
@@ -500,7 +504,7 @@ const py::dtype& run_dtype() {
 }
 
 /// Thrown through the engine when Python asks to stop (Ctrl-C): the files are finished as
-/// `partial` says, then the Python exception is raised again.
+/// `partial` says, then the Python exception is raised.
 struct PythonStop : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -561,19 +565,17 @@ PyRunResult run(py::object frames, std::optional<std::string> scene, int size, i
   st.silent = st.quiet = st.mute = true;
   st.exit_zero = true;
 
+  // The run goes on a thread of its own while this one waits for it, looking for signals
+  // (Python handles them on its main thread) every few milliseconds; a signal that raises
+  // (Ctrl-C: KeyboardInterrupt) asks the run to stop at the end of its current step, whichever
+  // thread ends it.
   std::vector<cli::StepRow> rows;
-  std::optional<py::error_already_set> pending;
-  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> stop{false};
+  std::string reason;  // the exception's name, written before `stop`
   st.on_step = [&](const cli::StepRow& row) {
     rows.push_back(row);
-    if (std::this_thread::get_id() != caller) return;  // Python handles signals on its main thread only
-    py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) {
-      pending.emplace();
-      throw PythonStop(py::str(pending->type().attr("__name__")).cast<std::string>());
-    }
+    if (stop.load(std::memory_order_acquire)) throw PythonStop(reason);
   };
-
   cli::RunInput input;
   std::vector<std::string> given;
   if (scene) {
@@ -582,13 +584,37 @@ PyRunResult run(py::object frames, std::optional<std::string> scene, int size, i
   } else {
     given = frame_arguments(frames);
   }
-  try {
-    py::gil_scoped_release release;
-    input = scene ? cli::input_from_scene(*scene, size, frame_count) : cli::input_from_files(given);
-    cli::run_frames(input, st, "mccd.run");
-  } catch (const PythonStop&) {
-    throw *pending;
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  std::exception_ptr failure;
+  std::thread worker([&] {
+    try {
+      input = scene ? cli::input_from_scene(*scene, size, frame_count) : cli::input_from_files(given);
+      cli::run_frames(input, st, "mccd.run");
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    const std::lock_guard<std::mutex> lock(mutex);
+    done = true;
+    finished.notify_all();
+  });
+  std::optional<py::error_already_set> pending;
+  for (bool over = false; !over;) {
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(mutex);
+      over = finished.wait_for(lock, std::chrono::milliseconds(20), [&] { return done; });
+    }
+    if (!over && !pending && PyErr_CheckSignals() != 0) {
+      pending.emplace();  // the handler's exception, raised once the run has stopped
+      reason = py::str(pending->type().attr("__name__")).cast<std::string>();
+      stop.store(true, std::memory_order_release);
+    }
   }
+  worker.join();
+  if (pending) throw *pending;
+  if (failure) std::rethrow_exception(failure);
 
   std::vector<RunRecord> records;
   cli::RunTotals totals;
@@ -756,7 +782,7 @@ image, image_step, image_size, camera, colored: the picture (PNG) and the colour
     the first contact (or of step image_step), as the command's --image options.
 
 Raises mccd.Error for refused input (after finishing the files as partial says), and
-KeyboardInterrupt on Ctrl-C (checked after every step).)";
+KeyboardInterrupt on Ctrl-C, at the end of the step under way (from the main thread).)";
 
 // ---------------------------------------------------------------------------------------------
 
