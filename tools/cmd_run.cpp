@@ -13,7 +13,6 @@
 #include <mccd/geometry/mesh_io.h>
 
 #include "command.h"
-#include "fixtures/scenes.h"
 #include "mpi/cluster.h"
 #include "options.h"
 #include "run_driver.h"
@@ -25,10 +24,6 @@ namespace {
 using namespace mccd;
 using namespace mccd::cli;
 
-/// Built-in scenes are held in memory: their size in thousands of triangles times their
-/// frame count is bounded so that they fit (about 12 kB per thousand triangles and frame).
-constexpr long kMaxSizeTimesFrames = 20000;
-
 struct RunArgs {
   std::vector<std::string> frames;
   std::string scene;
@@ -36,25 +31,11 @@ struct RunArgs {
   RunSettings settings;
 };
 
-RunInput input_from_scene(const RunArgs& a) {
-  if ((long)a.size * a.frame_count > kMaxSizeTimesFrames)
-    throw Error("--size " + std::to_string(a.size) + " with --frames " + std::to_string(a.frame_count) +
-                ": a built-in scene is held in memory, so --size times --frames may be at most " +
-                std::to_string(kMaxSizeTimesFrames));
-  auto scene = std::make_shared<AnimatedScene>(make_scene(a.scene, a.size, a.frame_count));
-  RunInput in;
-  in.description = "built-in scene " + scene->name;
-  in.meshes = scene->meshes;
-  in.frames = scene->frames.size();
-  in.frame = [scene](std::size_t i) { return scene->frames.at(i); };
-  return in;
-}
-
 int run(RunArgs& a) {
   if (!a.scene.empty() && !a.frames.empty()) throw Error("give either frame files or --scene, not both");
   if (a.scene.empty() && a.frames.empty())
     throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene NAME)");
-  const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a);
+  const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a.scene, a.size, a.frame_count);
   return run_frames(input, a.settings, "mccd run", nullptr, &cluster());
 }
 

@@ -44,11 +44,14 @@ struct Outputs {
     if (contacts) contacts->add(step, substep, r);
     if (stats) stats->add(step, substep, r);
   }
-  /// After an error or a signal: keeps (marked incomplete) or removes each file, and says so.
-  void stop(Partial partial, const std::string& why, std::size_t steps, const std::string& command) noexcept {
+  /// After an error or a signal: keeps (marked incomplete) or removes each file, and says so
+  /// on stderr (unless muted).
+  void stop(Partial partial, const std::string& why, std::size_t steps, const std::string& command,
+            bool mute = false) noexcept {
     for (StreamedFile* f : files()) {
       if (f->done()) continue;
       f->stop(partial, why, steps);
+      if (mute) continue;
       if (partial == Partial::Keep)
         std::fprintf(stderr, "%s: %s keeps the %zu finished step%s, marked incomplete\n", command.c_str(),
                      f->path().c_str(), steps, steps == 1 ? "" : "s");
@@ -129,13 +132,14 @@ void write_pictures(const RunInput& input, const RunSettings& st, const FrameNam
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       write_image(st.image, image);
     }
-    std::printf("picture: %s (%s%s)\n", st.image.c_str(), when.c_str(),
-                keyed ? "" : "; no caption or legend: too small for them");
+    if (!st.mute)
+      std::printf("picture: %s (%s%s)\n", st.image.c_str(), when.c_str(),
+                  keyed ? "" : "; no caption or legend: too small for them");
   }
   if (!st.colored.empty()) {
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     write_snapshot_ply(st.colored, view);
-    std::printf("coloured mesh: %s (%s)\n", st.colored.c_str(), when.c_str());
+    if (!st.mute) std::printf("coloured mesh: %s (%s)\n", st.colored.c_str(), when.c_str());
   }
 }
 
@@ -371,7 +375,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
     out.stop(st.partial,
              std::string("interrupted by ") + signal_name(sig) + " after " + std::to_string(steps_done) + " of " +
                  std::to_string(steps) + " steps",
-             steps_done, command);
+             steps_done, command, st.mute);
   });
 
   // A frame that cannot be read ends the sequence there, so that every step before it is
@@ -399,6 +403,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
       totals.add(acc.row());
       steps_done = k + 1;
       if (!st.quiet) bar.print_above([&] { table.print_row(acc.row()); });
+      if (st.on_step) st.on_step(acc.row());
     }
     bar.update(double(k) + double(j + 1) / K, totals.vf + totals.ee);
   };
@@ -439,7 +444,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       bar.erase();
       std::fflush(stdout);
-      out.stop(st.partial, e.what(), steps_done, command);
+      out.stop(st.partial, e.what(), steps_done, command, st.mute);
     }
     // the steps are handed over in order: the one after the last finished is where it failed
     const RunStop stop{steps, steps_done, e.what()};
@@ -455,7 +460,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
     {
       std::lock_guard<std::mutex> lock(interrupt_mutex());
       std::fflush(stdout);
-      out.stop(st.partial, source_error, steps_done, command);
+      out.stop(st.partial, source_error, steps_done, command, st.mute);
     }
     // frame `next` could not be read: every step before the one ending there has finished
     const RunStop stop{steps, next - 1, source_error};

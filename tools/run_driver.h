@@ -50,6 +50,14 @@ struct RunSettings {
   std::string camera;           ///< "EX,EY,EZ[,TX,TY,TZ[,UX,UY,UZ]]" or "" for automatic
   std::optional<Vec3> up;       ///< the scene's up direction when known (else guessed, see up_axis())
   bool silent = false;          ///< print nothing on stdout (`mccd batch` prints its own lines)
+  /// Print nothing at all, on stdout or stderr (no picture lines, no word of the files kept or
+  /// removed when a run stops early): with silent and quiet, for callers that report through
+  /// on_step and exceptions (the Python module).
+  bool mute = false;
+  /// Called with each finished step's row, in step order, one call at a time (from whichever
+  /// thread finished the step). It may throw to stop the run: the files of the finished steps
+  /// are then kept or removed as `partial` says and the exception is rethrown.
+  std::function<void(const StepRow&)> on_step;
 };
 
 /// What a run found, for `mccd batch`'s summary (filled as far as the run got, also when it

@@ -5,10 +5,13 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
 #include <mccd/geometry/mesh_io.h>
+
+#include "fixtures/scenes.h"
 
 namespace mccd::cli {
 
@@ -79,6 +82,24 @@ RunInput input_from_files(const std::vector<std::string>& given) {
     if (i == 0) return std::vector<Positions>{first.vertices};
     return std::vector<Positions>{read_frame(paths[i], i, first, paths[0])};
   };
+  return in;
+}
+
+void check_scene_size(int size_k, int frames) {
+  if (static_cast<long>(size_k) * frames > kMaxSizeTimesFrames)
+    throw Error("--size " + std::to_string(size_k) + " with --frames " + std::to_string(frames) +
+                ": a built-in scene is held in memory, so --size times --frames may be at most " +
+                std::to_string(kMaxSizeTimesFrames));
+}
+
+RunInput input_from_scene(const std::string& name, int size_k, int frames) {
+  check_scene_size(size_k, frames);
+  auto scene = std::make_shared<AnimatedScene>(make_scene(name, size_k, frames));
+  RunInput in;
+  in.description = "built-in scene " + scene->name;
+  in.meshes = scene->meshes;
+  in.frames = scene->frames.size();
+  in.frame = [scene](std::size_t i) { return scene->frames.at(i); };
   return in;
 }
 
