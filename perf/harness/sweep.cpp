@@ -82,37 +82,29 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
     for (int run = 1; run <= options.repeats; ++run)
       for (int threads : options.threads) record(m, threads, run);
   }
+  // One checked 1-thread run in another configuration, labelled.
+  auto one_thread = [&](Method m, const SceneOptions& opt, const char* config, const char* label) {
+    RunRecord rec = run_once(w, m, 1, nullptr, &reference, opt);
+    rec.config = config;
+    if (options.progress) {
+      char line[200];
+      std::snprintf(line, sizeof line, "%-20s %-8s %2d thread   %-17s %9.2f ms per frame", w.name.c_str(),
+                    to_string(m), 1, label, rec.wall_ms / rec.intervals);
+      options.progress(line);
+    }
+    out.push_back(std::move(rec));
+  };
   if (options.work_span_runs) {
     SceneOptions measured;
     measured.work_span = true;
-    for (Method m : options.methods) {
-      RunRecord rec = run_once(w, m, 1, nullptr, &reference, measured);
-      rec.config = "work-span";
-      if (options.progress) {
-        char line[200];
-        std::snprintf(line, sizeof line, "%-20s %-8s %2d thread   %-17s %9.2f ms per frame", w.name.c_str(),
-                      to_string(m), 1, "work and span", rec.wall_ms / rec.intervals);
-        options.progress(line);
-      }
-      out.push_back(std::move(rec));
-    }
+    for (Method m : options.methods) one_thread(m, measured, "work-span", "work and span");
   }
   if (options.paper_runs) {
     SceneOptions paper;
     paper.bvh = BvhBuild::Median;
     paper.leaf_size = 1;
     paper.representatives = Representatives::Canonical;
-    for (Method m : {Method::Traverse, Method::Fbd}) {
-      RunRecord rec = run_once(w, m, 1, nullptr, &reference, paper);
-      rec.config = "paper";
-      if (options.progress) {
-        char line[200];
-        std::snprintf(line, sizeof line, "%-20s %-8s %2d thread   %-17s %9.2f ms per frame", w.name.c_str(),
-                      to_string(m), 1, "paper's setting", rec.wall_ms / rec.intervals);
-        options.progress(line);
-      }
-      out.push_back(std::move(rec));
-    }
+    for (Method m : {Method::Traverse, Method::Fbd}) one_thread(m, paper, "paper", "paper's setting");
   }
   return out;
 }
