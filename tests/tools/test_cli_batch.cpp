@@ -60,7 +60,9 @@ TEST(CliBatch, SameFilesAsRunAndASummaryThatMarksTheBrokenSequence) {
     EXPECT_EQ(bc, slurp(c));
     EXPECT_EQ(without_times(nlohmann::json::parse(slurp(fs::path(out) / (seqs[i].name + ".stats.json")))),
               without_times(nlohmann::json::parse(slurp(s))));
-    if (i == 3) EXPECT_NE(bc.find("# incomplete:"), std::string::npos);
+    if (i == 3) {
+      EXPECT_NE(bc.find("# incomplete:"), std::string::npos);
+    }
   }
 
   // the summary: one row per sequence in manifest order, the broken one failed
@@ -75,9 +77,13 @@ TEST(CliBatch, SameFilesAsRunAndASummaryThatMarksTheBrokenSequence) {
     EXPECT_EQ(f[2], i == 3 ? "failed" : "ok") << rows[i + 1];
     EXPECT_EQ(f[3], std::to_string(seqs[i].frames));
     EXPECT_EQ(f[5], std::to_string(i == 3 ? 3 : seqs[i].frames - 1));  // steps before the broken frame
-    if (i != 3) EXPECT_NE(f[7], "0");  // every folding cloth has contacts by its end
+    if (i != 3) {
+      EXPECT_NE(f[7], "0");  // every folding cloth has contacts by its end
+    }
     EXPECT_EQ(f[10], "0");  // one process: rank 0
-    if (i == 3) EXPECT_NE(rows[i + 1].find("frame004.ply"), std::string::npos);
+    if (i == 3) {
+      EXPECT_NE(rows[i + 1].find("frame004.ply"), std::string::npos);
+    }
   }
   const std::string md = slurp(fs::path(out) / "summary.md");
   EXPECT_NE(md.find("| cloth3 | 5 | failed |"), std::string::npos) << md;
