@@ -82,21 +82,30 @@ class Bvtt {
     push_children(n, next);
   }
 
+  /// Work of a visit in the units of traverse()'s budget: a node test 1, a leaf pair (its
+  /// feature pairs and elementary tests) kLeafPairWork.
+  static constexpr std::size_t kLeafPairWork = 16;
+
   /// Depth-first traversal of everything on out.stack (its leaf pairs processed by the time
-  /// it returns).
+  /// it returns), or until it has done `budget` units of work (kLeafPairWork): the rest is
+  /// left on out.stack, the larger subtrees deepest (parallel/phc.h hands them to tasks of
+  /// their own). Returns the work done (at least `budget` when it stopped for it).
   template <bool record>
-  void traverse(WorkerOutput& out) const {
+  std::size_t traverse(WorkerOutput& out, std::size_t budget = static_cast<std::size_t>(-1)) const {
     auto& st = out.stack;
-    while (!st.empty()) {
+    std::size_t work = 0;
+    while (!st.empty() && work < budget) {
       if (query_.stopped()) {
         st.clear();
         break;
       }
       const NodePair n = st.back();
       st.pop_back();
+      work += bvh_.leaf(n.a) && bvh_.leaf(n.b) ? kLeafPairWork : 1;
       visit<record>(n, out, st);
     }
     finish(out);
+    return work;
   }
 
   /// Processes what the leaf pairs visit() found left queued in `out` (Leaf::finish). Every

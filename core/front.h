@@ -5,6 +5,7 @@
 /// invalidated), the memory cap and the reset. The engine cuts the front into blocks and
 /// tracks them in parallel (parallel/front_tracking.h); everything else about the front is
 /// here.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -49,13 +50,19 @@ class BvttFront {
   /// sections 4.3-4.4). A disjoint node stays; an overlapping leaf pair is processed and
   /// stays; an overlapping inner node is replaced by the stops of its subtree (no pruning);
   /// a node covered by a self-culling certificate stays untested. out.front receives this
-  /// block's part of the next front, out.stats its S and B counts.
+  /// block's part of the next front, out.stats its S and B counts. The block's sprouts do at
+  /// most `max_visits` units of work together (Bvtt::traverse): what is left of a sprout past
+  /// that goes to out.left,
+  /// for the caller to traverse (recording the stops: the rest of the next front, all sprouted).
   template <class Bvtt>
-  static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out);
+  static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
+                    std::size_t max_visits = static_cast<std::size_t>(-1));
   /// The same tests for a query: the front is read, not changed (nothing is recorded;
-  /// overlapping inner nodes are traversed below). Stops when the query stops.
+  /// overlapping inner nodes are traversed below, up to `max_visits` as in track()). Stops
+  /// when the query stops.
   template <class Bvtt>
-  static void track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out);
+  static void track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
+                             std::size_t max_visits = static_cast<std::size_t>(-1));
 
  private:
   static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
@@ -64,9 +71,22 @@ class BvttFront {
   bool valid_ = false;
 };
 
+/// Traverses out.stack for what is left of `budget` (units of Bvtt::traverse); hands the rest
+/// to out.left.
+template <bool record, class Bvtt>
+void sprout_within(const Bvtt& bvtt, WorkerOutput& out, std::size_t& budget) {
+  budget -= std::min(budget, bvtt.template traverse<record>(out, budget));
+  if (!out.stack.empty()) {
+    out.left.insert(out.left.end(), out.stack.begin(), out.stack.end());
+    out.stack.clear();
+  }
+}
+
 template <class Bvtt>
-void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out) {
+void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
+                      std::size_t max_visits) {
   const auto& bvh = bvtt.bvh();
+  std::size_t budget = max_visits;
   std::uint32_t touched = 0;
   for (const NodePair* it = begin; it != end; ++it) {
     const NodePair n = *it;
@@ -82,7 +102,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
       ++out.stats.invalidated;
       const std::size_t before = out.front.size();
       out.stack.push_back(n);
-      bvtt.template traverse<true>(out);
+      sprout_within<true>(bvtt, out, budget);
       out.stats.sprouted += out.front.size() - before;
       continue;
     }
@@ -97,7 +117,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
       ++out.stats.invalidated;
       const std::size_t before = out.front.size();
       bvtt.push_children(n, out.stack);
-      bvtt.template traverse<true>(out);
+      sprout_within<true>(bvtt, out, budget);
       out.stats.sprouted += out.front.size() - before;
     }
   }
@@ -106,15 +126,17 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
 }
 
 template <class Bvtt>
-void BvttFront::track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out) {
+void BvttFront::track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
+                               std::size_t max_visits) {
   const auto& bvh = bvtt.bvh();
+  std::size_t budget = max_visits;
   for (const NodePair* it = begin; it != end && !bvtt.stopped(); ++it) {
     const NodePair n = *it;
     MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
     if (bvtt.culled(n, out)) continue;
     if (n.a == n.b) {
       out.stack.push_back(n);
-      bvtt.template traverse<false>(out);
+      sprout_within<false>(bvtt, out, budget);
       continue;
     }
     ++out.stats.volume_tests;
@@ -124,7 +146,7 @@ void BvttFront::track_readonly(const Bvtt& bvtt, const NodePair* begin, const No
       bvtt.leaf().process(n.a, n.b, ov, out);
     } else {
       bvtt.push_children(n, out.stack);
-      bvtt.template traverse<false>(out);
+      sprout_within<false>(bvtt, out, budget);
     }
   }
   bvtt.finish(out);

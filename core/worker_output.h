@@ -42,12 +42,16 @@ struct WorkerOutput {
   std::vector<NodePair> front;       ///< the front nodes this unit keeps or sprouts
   std::vector<RawContact> contacts;  ///< found by this unit, not yet handed to the buffer
   std::vector<NodePair> stack;       ///< traversal stack (kept to reuse the allocation)
+  /// Nodes this unit left to be traversed by tasks of their own (a sprout past its block's
+  /// budget of visits, BvttFront::track).
+  std::vector<NodePair> left;
   std::vector<QueuedPair> queued;    ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts
   void clear() {
     front.clear();
     contacts.clear();
     stack.clear();
+    left.clear();
     queued.clear();
     stats = {};
   }

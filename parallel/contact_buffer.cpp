@@ -1,6 +1,8 @@
 #include <mccd/parallel/contact_buffer.h>
 
 #include <algorithm>
+#include <limits>
+#include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -20,6 +22,7 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     ContactBuffer::const_iterator it;
     std::uint64_t operator*() const { return it->key; }
     Keys& operator++() { return ++it, *this; }
+    Keys operator+(std::ptrdiff_t i) const { return {it + i}; }
   };
   const bool packed = allow_packed && packed_key_order(Keys{buffer.begin()}, n, id_bits, scratch.order);
   const std::uint64_t pos_mask = (std::uint64_t(1) << position_bits(n)) - 1;
@@ -36,9 +39,20 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
   };
   reserve_huge(res.contacts, n);
   res.contacts.resize(n);
-  auto convert = [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i != end; ++i) {
+  // Converted by chunks, each counting its kinds and its earliest time of impact (added up in
+  // chunk order afterwards: counts and a minimum do not depend on it).
+  constexpr std::size_t kChunk = 4096;
+  struct Tally {
+    std::uint64_t vf = 0, ee = 0;
+    double earliest = std::numeric_limits<double>::infinity();
+  };
+  std::vector<Tally> tallies((n + kChunk - 1) / kChunk);
+  auto convert = [&](std::size_t chunk) {
+    Tally& t = tallies[chunk];
+    for (std::size_t i = chunk * kChunk, end = std::min(n, i + kChunk); i != end; ++i) {
       const RawContact& r = raw(i);
+      ++(r.kind() == ContactKind::VertexFace ? t.vf : t.ee);
+      t.earliest = std::min(t.earliest, r.toi);
       Contact& c = res.contacts[i];
       c.kind = r.kind();
       c.toi = r.toi;
@@ -62,12 +76,13 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     }
   };
   if (large)
-    chunked_for(n, 4096, convert, tbb::auto_partitioner());
+    for_each_index(tallies.size(), convert, tbb::auto_partitioner());
   else
-    convert(0, n);
-  for (const RawContact& r : buffer) {
-    ++(r.kind() == ContactKind::VertexFace ? res.stats.vf_contacts : res.stats.ee_contacts);
-    res.earliest_toi = std::min(res.earliest_toi, r.toi);
+    for (std::size_t c = 0; c < tallies.size(); ++c) convert(c);
+  for (const Tally& t : tallies) {
+    res.stats.vf_contacts += t.vf;
+    res.stats.ee_contacts += t.ee;
+    res.earliest_toi = std::min(res.earliest_toi, t.earliest);
   }
 }
 

@@ -36,11 +36,12 @@ inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
 }
 
 /// The canonical order of n contacts by their keys (unique), as positions into them: `keys`
-/// iterates over their keys in sequence; ids in keys are below 2^`id_bits`. Each entry of
-/// `order` packs a compact key above the position: entry & ((1 << position_bits(n)) - 1) is the
-/// position. When the compact key and the position do not fit in 64 bits, returns false and
-/// leaves `order` empty (the caller sorts otherwise). The top bits are distributed serially,
-/// the buckets sorted in parallel.
+/// iterates over their keys in sequence (`keys + i` starts at the i-th); ids in keys are below
+/// 2^`id_bits`. Each entry of `order` packs a compact key above the position: entry & ((1 <<
+/// position_bits(n)) - 1) is the position. When the compact key and the position do not fit in
+/// 64 bits, returns false and leaves `order` empty (the caller sorts otherwise). The top bits
+/// pick a bucket (counted and scattered by chunks of keys in parallel, each chunk into its own
+/// slots of each bucket), then the buckets are sorted in parallel.
 template <class KeyIterator>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order);
 /// Bits that hold a position below n.
@@ -70,23 +71,49 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
     const std::uint64_t compact = (k >> 63) << (2 * id_bits) | (k >> 32 & id_mask) << id_bits | (k & id_mask);
     return compact << pos_bits | i;
   };
-  // The top (up to) 11 bits pick a bucket: a counting pass and a scatter over the keys in
-  // sequence, then each bucket sorted on its own.
+  // The top (up to) 11 bits pick a bucket: each chunk of keys counts its buckets, the counts
+  // become each chunk's first slot in each bucket (bucket by bucket, chunk by chunk), and each
+  // chunk scatters its keys there; then each bucket is sorted on its own. A bucket's entries
+  // are the same whatever the chunks, and its sort orders them by their unique keys.
   const unsigned top = std::min(bits, 11u), shift = bits - top;
   const std::size_t nb = std::size_t(1) << top;
-  std::vector<std::uint32_t> start(nb + 1, 0);
-  KeyIterator k = keys;
-  for (std::size_t i = 0; i < n; ++i, ++k) ++start[(packed(*k, i) >> shift) + 1];
-  for (std::size_t b = 0; b < nb; ++b) start[b + 1] += start[b];
-  order.resize(n);
-  {
-    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-    k = keys;
-    for (std::size_t i = 0; i < n; ++i, ++k) {
+  constexpr std::size_t kChunk = 16384;
+  const std::size_t nc = std::max<std::size_t>(1, (n + kChunk - 1) / kChunk);
+  std::vector<std::uint32_t> slot(nc * nb, 0), start(nb + 1, 0);
+  auto count = [&](std::size_t c) {
+    const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
+    std::uint32_t* h = slot.data() + c * nb;
+    KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
+    for (std::size_t i = b; i < e; ++i, ++k) ++h[packed(*k, i) >> shift];
+  };
+  auto scatter = [&](std::size_t c) {
+    const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
+    std::uint32_t* next = slot.data() + c * nb;
+    KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
+    for (std::size_t i = b; i < e; ++i, ++k) {
       const std::uint64_t v = packed(*k, i);
       order[next[v >> shift]++] = v;
     }
+  };
+  order.resize(n);
+  if (nc > 1)
+    for_each_index(nc, count, tbb::simple_partitioner());
+  else
+    count(0);
+  std::uint32_t at = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    start[b] = at;
+    for (std::size_t c = 0; c < nc; ++c) {
+      const std::uint32_t m = slot[c * nb + b];
+      slot[c * nb + b] = at;
+      at += m;
+    }
   }
+  start[nb] = at;
+  if (nc > 1)
+    for_each_index(nc, scatter, tbb::simple_partitioner());
+  else
+    scatter(0);
   // Contacts crowded into a few buckets (all in a small range of ids) would leave one thread
   // sorting most of them: a large bucket is sorted in parallel itself.
   auto sort_buckets = [&](std::size_t b0, std::size_t b1) {

@@ -12,6 +12,7 @@
 
 #include <mccd/core/front.h>
 #include <mccd/parallel/contact_buffer.h>
+#include <mccd/parallel/phc.h>
 #include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
@@ -24,31 +25,43 @@ inline constexpr std::size_t kFrontBlock = 512;
 /// in parallel): a parallel loop costs more in waking threads than it saves there.
 inline constexpr std::size_t kSerialBlocks = 4;
 
-/// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
-/// by the caller from those outputs (BvttFront::advance); sprouting is BvttFront::track. `readonly` (the simulator queries):
-/// the same tests without recording a next front (BvttFront::track_readonly).
+/// Tracks every block of `front` into blocks[0, n), then what the blocks' sprouts left past
+/// their budget (kTaskWork each block) in rounds of tasks into blocks[n, m)
+/// (traverse_rounds), and returns m; the front itself is advanced by the caller from those
+/// outputs in order (BvttFront::advance); sprouting is BvttFront::track. `readonly` (the
+/// simulator queries): the same tests without recording a next front
+/// (BvttFront::track_readonly).
 template <class Bvtt>
 std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs& blocks,
-                        ContactBuffer& contacts, bool readonly = false) {
+                        ContactBuffer& contacts, bool readonly = false, std::size_t task_work = kTaskWork) {
   const LargeVector<NodePair>& nodes = front.nodes();
   const std::size_t n = (nodes.size() + kFrontBlock - 1) / kFrontBlock;
   if (blocks.size() < n) blocks.resize(n);
+  const bool serial = n <= kSerialBlocks;
+  const std::size_t budget = serial ? static_cast<std::size_t>(-1) : task_work;
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
     o.clear();
     const std::size_t lo = b * kFrontBlock, hi = std::min(nodes.size(), lo + kFrontBlock);
     if (readonly)
-      BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o);
+      BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else
-      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o);
+      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     flush(o, contacts);
   };
-  if (n <= kSerialBlocks) {
+  if (serial) {
     for (std::size_t b = 0; b < n; ++b) run(b);  // the same blocks, without waking a thread
-  } else {
-    for_each_index(n, run, tbb::simple_partitioner());
+    return n;
   }
-  return n;
+  for_each_index(n, run, tbb::simple_partitioner());
+  std::vector<NodePair> left;
+  for (std::size_t b = 0; b < n; ++b) {
+    left.insert(left.end(), blocks[b].left.begin(), blocks[b].left.end());
+    blocks[b].left.clear();
+  }
+  if (left.empty()) return n;
+  return readonly ? traverse_rounds<false>(bvtt, left, blocks, n, contacts, task_work)
+                  : traverse_rounds<true>(bvtt, left, blocks, n, contacts, task_work, /*count_sprouted=*/true);
 }
 
 }  // namespace mccd::detail

@@ -29,15 +29,16 @@ namespace mccd::detail {
 class RefitPlan {
  public:
   RefitPlan() = default;
-  /// Cuts the BVH into subtrees of at most ~1/64 of the nodes, and at least `min_subtree`
-  /// nodes so that small scenes stay one piece. Subtrees whose triangles never move
+  /// Cuts the BVH into subtrees of at most ~1/256 of the nodes, and at least `min_subtree`
+  /// nodes so that small scenes stay one piece (16 threads get 16 subtrees each from a large
+  /// BVH: a static partition of a few large subtrees left threads idle). Subtrees whose triangles never move
   /// (`is_static(node)`) are set apart: refitted once by run_static(), never by run().
   /// Nodes above the meshes' subtrees (mesh_of_node() == kMixed) are always in the top, so a
   /// static mesh's subtree is never part of a moving subtree.
   template <class IsStatic>
-  RefitPlan(const BvhTopology& bvh, const IsStatic& is_static, std::uint32_t min_subtree = 2048) {
+  RefitPlan(const BvhTopology& bvh, const IsStatic& is_static, std::uint32_t min_subtree = 256) {
     if (bvh.size() == 0) return;
-    const std::uint32_t limit = std::max<std::uint32_t>(min_subtree, static_cast<std::uint32_t>(bvh.size() / 64));
+    const std::uint32_t limit = std::max<std::uint32_t>(min_subtree, static_cast<std::uint32_t>(bvh.size() / 256));
     std::vector<std::uint32_t> stack{0};
     while (!stack.empty()) {
       const std::uint32_t n = stack.back();

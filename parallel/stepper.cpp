@@ -50,6 +50,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       owners_(bvh_, scene.topology(), tbb_executor()),
       volumes_{{},
                scene.representatives() == Representatives::Leaf ? LeafLanes<BV>(bvh_, owners_) : LeafLanes<BV>(),
+               {},
                {}},
       tests_(scene.topology(), volumes_.swept, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
       culling_(options.self_culling && options.min_distance == 0 && scene.representatives() == Representatives::Leaf

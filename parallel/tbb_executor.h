@@ -6,7 +6,8 @@
 /// Work and span: while a stage runs with a WorkSpanRecorder installed on its thread
 /// (StageClock, SceneOptions::work_span), every outermost loop of the stage times its tasks:
 /// the stage's work is its serial time plus all its tasks, its span its serial time plus the
-/// longest task of each loop (loops inside a task are part of that task).
+/// longest path through each loop: a task's span is its serial time plus the span of every loop
+/// it runs inside (a recursive parallel_invoke or a loop in a loop's task counts at every depth).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -40,48 +41,63 @@ class WorkSpanRecorder {
   double parallel_wall_ = 0, tasks_ = 0, longest_ = 0;
 };
 
-/// The recorder of the stage this thread runs (nullptr: not measured), and whether this thread
-/// is inside a task of a measured loop (its own loops are then part of that task).
-inline thread_local WorkSpanRecorder* tl_work_span = nullptr;
-inline thread_local bool tl_in_task = false;
+/// The task this thread runs inside a measured loop: its nested loops' wall time and span.
+struct TaskFrame {
+  double nested_wall = 0, nested_span = 0;
+};
 
-/// The tasks of one measured loop, timed from any thread.
+/// The recorder of the stage this thread runs (nullptr: not measured), and the measured task
+/// this thread is inside (nullptr: none; its own loops are then the stage's outermost).
+inline thread_local WorkSpanRecorder* tl_work_span = nullptr;
+inline thread_local TaskFrame* tl_frame = nullptr;
+
+/// The tasks of one measured loop, timed from any thread. A loop inside a task adds its wall
+/// time and span to that task's frame: the task's span is its own serial time plus the span of
+/// each loop it ran (the longest path through the nested loops, measured on one thread).
 class LoopTimer {
  public:
   using Clock = std::chrono::steady_clock;
-  explicit LoopTimer(WorkSpanRecorder& recorder) : recorder_(recorder), start_(Clock::now()) {}
+  explicit LoopTimer(WorkSpanRecorder& recorder) : recorder_(recorder), parent_(tl_frame), start_(Clock::now()) {}
   ~LoopTimer() {
-    recorder_.add_loop(seconds(Clock::now() - start_), tasks_.load(std::memory_order_relaxed),
-                       longest_.load(std::memory_order_relaxed));
+    const double wall = seconds(Clock::now() - start_), longest = longest_.load(std::memory_order_relaxed);
+    if (parent_) {
+      parent_->nested_wall += wall;
+      parent_->nested_span += longest;
+    } else {
+      recorder_.add_loop(wall, tasks_.load(std::memory_order_relaxed), longest);
+    }
   }
   LoopTimer(const LoopTimer&) = delete;
   LoopTimer& operator=(const LoopTimer&) = delete;
   /// Runs f() as one task of the loop.
   template <class F>
   void task(const F& f) {
-    struct InTask {
-      bool was = tl_in_task;
-      InTask() { tl_in_task = true; }
-      ~InTask() { tl_in_task = was; }
-    } in_task;
+    TaskFrame frame;
+    struct Enter {
+      TaskFrame* was = tl_frame;
+      explicit Enter(TaskFrame* f) { tl_frame = f; }
+      ~Enter() { tl_frame = was; }
+    } enter(&frame);
     const auto t = Clock::now();
     f();
     const double d = seconds(Clock::now() - t);
+    const double span = std::max(0.0, d - frame.nested_wall) + frame.nested_span;
     tasks_.fetch_add(d, std::memory_order_relaxed);
     double m = longest_.load(std::memory_order_relaxed);
-    while (d > m && !longest_.compare_exchange_weak(m, d, std::memory_order_relaxed)) {
+    while (span > m && !longest_.compare_exchange_weak(m, span, std::memory_order_relaxed)) {
     }
   }
 
  private:
   static double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
   WorkSpanRecorder& recorder_;
+  TaskFrame* parent_;
   Clock::time_point start_;
   std::atomic<double> tasks_{0}, longest_{0};
 };
 
-/// The recorder of an outermost loop on this thread, or nullptr.
-inline WorkSpanRecorder* loop_recorder() { return tl_in_task ? nullptr : tl_work_span; }
+/// The recorder of the stage this thread runs, or nullptr.
+inline WorkSpanRecorder* loop_recorder() { return tl_work_span; }
 
 /// body(begin, end) over chunks of about `grain` of [0, n) under `partitioner` (timed when the
 /// stage is measured).
@@ -138,13 +154,13 @@ class StageClock {
  public:
   using Clock = std::chrono::steady_clock;
   explicit StageClock(WorkSpanRecorder* recorder)
-      : recorder_(recorder), was_(tl_work_span), was_in_task_(tl_in_task), start_(Clock::now()) {
+      : recorder_(recorder), was_(tl_work_span), was_frame_(tl_frame), start_(Clock::now()) {
     tl_work_span = recorder;
-    tl_in_task = false;  // a stage run from inside another's task (stolen) measures its own loops
+    tl_frame = nullptr;  // a stage run from inside another's task (stolen) measures its own loops
   }
   ~StageClock() {
     tl_work_span = was_;
-    tl_in_task = was_in_task_;
+    tl_frame = was_frame_;
   }
   StageClock(const StageClock&) = delete;
   StageClock& operator=(const StageClock&) = delete;
@@ -155,7 +171,7 @@ class StageClock {
  private:
   WorkSpanRecorder* recorder_;
   WorkSpanRecorder* was_;
-  bool was_in_task_;
+  TaskFrame* was_frame_;
   Clock::time_point start_;
 };
 

@@ -4,9 +4,13 @@
 /// from them where needed) and, under the leaf rule, coarse volumes on the step's grid. Loops
 /// over chunks dealt out as threads free up (fixed work per item, but a busy virtual machine
 /// stalls a thread now and then: a static partition made the stage wait for it).
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <utility>
 #include <vector>
+
+#include <oneapi/tbb/partitioner.h>
 
 #include <mccd/core/leaf_lanes.h>
 #include <mccd/core/scene_topology.h>
@@ -45,12 +49,34 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
   }
 }
 
+/// The box of x0 and x1 together: each chunk of vertices' own box in parallel, then merged in
+/// chunk order (the box one serial pass gives; a serial pass was most of the stage's span).
+inline Bounds3 step_bounds(const Positions& x0, const Positions& x1, std::vector<Bounds3>& chunks) {
+  constexpr std::size_t kChunk = 8192;
+  const std::size_t n = x0.rows(), nc = (n + kChunk - 1) / kChunk;
+  chunks.resize(nc);
+  for_each_index(
+      nc,
+      [&](std::size_t c) {
+        const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
+        const Bounds3 p = bounding_box(PositionsView(x0.data() + 3 * b, e - b));
+        const Bounds3 q = bounding_box(PositionsView(x1.data() + 3 * b, e - b));
+        chunks[c] = {p.min.cwiseMin(q.min), p.max.cwiseMax(q.max)};
+      },
+      tbb::simple_partitioner());
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Bounds3 box{Vec3::Constant(inf), Vec3::Constant(-inf)};
+  for (const Bounds3& c : chunks) box = {box.min.cwiseMin(c.min), box.max.cwiseMax(c.max)};
+  return box;
+}
+
 /// What the update reads and writes.
 template <BoundingVolume BV>
 struct UpdateState {
   SweptVolumes<BV> swept;  ///< per vertex, in the leaf rule's storage order
   LeafLanes<BV> lanes;     ///< leaf rule: the leaves' coarse volumes, filled as used
   GridKeeper<BV::kSlabs> grid;  ///< their grid, fitted to each step
+  std::vector<Bounds3> chunk_bounds;  ///< step_bounds' scratch
 };
 
 /// Stage 1: the swept volumes of x0 -> x1 for the moving meshes. `compare`: from the second
@@ -70,9 +96,8 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
   if (!state.lanes.empty()) {
     // Every vertex's coarse volume on a grid that holds the step (the leaves' lanes are filled
     // from them when a leaf pair or the self stage first needs them).
-    const Bounds3 b0 = bounding_box(x0), b1 = bounding_box(x1);
-    const Vec3 lo = b0.min.cwiseMin(b1.min), hi = b0.max.cwiseMax(b1.max);
-    if (lo.x() <= hi.x()) state.lanes.begin(state.grid.fit(lo.data(), hi.data()));
+    const Bounds3 box = step_bounds(x0, x1, state.chunk_bounds);
+    if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
     dynamic_for(topo.num_vertices(), 8192,
                 [&](std::size_t b, std::size_t e) { state.lanes.quantize_vertices(b, e, state.swept); });
   }

@@ -4,8 +4,9 @@
 //    step 0 and then only tracked (never rebuilt) processes at every step exactly the leaf
 //    pairs brute force finds; after tracking, the front is still a cut of the BVTT, every node
 //    a stop for the current volumes, every node of the old front that stops now kept, the
-//    blocks' parts joined in order, and L' = L - B + S; readonly tracking processes the same
-//    pairs and leaves the front unchanged;
+//    blocks' parts joined in order (then the parts of the sprouts they left past their budget
+//    of work, for budgets of 1 and 3 units and the default), and L' = L - B + S; readonly
+//    tracking processes the same pairs and leaves the front unchanged;
 //  - through the stepper: fbd (never rebuilding, or with the default rule; both representative
 //    rules) gives the contacts of a traversal from the root at every step; every front node
 //    is valid (in range, a <= b); queries leave the front as it was.
@@ -32,7 +33,9 @@ std::vector<NodePair> nodes_of(const BvttFront& f) { return {f.nodes().begin(), 
 
 /// Builds the front at step 0 (PHC with recording, as fbd builds it), then tracks it through
 /// every later step, checking each against the references. Returns the largest front seen.
-std::size_t track_through(BvttScene& s) {
+/// `task_work`: each block's budget of sprout work (units of Bvtt::traverse; see
+/// parallel/front_tracking.h); with `expect_left`, some step must leave sprouts to the rounds after the blocks.
+std::size_t track_through(BvttScene& s, std::size_t task_work = kTaskWork, bool expect_left = false) {
   s.set_step(0);
   BvttFront front;
   WorkerOutputs units;
@@ -43,6 +46,7 @@ std::size_t track_through(BvttScene& s) {
   EXPECT_TRUE(s.is_cut(nodes_of(front), true)) << "built front";
   std::size_t largest = front.size();
   std::uint64_t total_sprouted = 0;
+  bool any_left = false;
   for (std::size_t f = 1; f < s.steps(); ++f) {
     SCOPED_TRACE("step " + std::to_string(f));
     s.set_step(f);
@@ -52,7 +56,7 @@ std::size_t track_through(BvttScene& s) {
     // Readonly (a query): the same pairs, nothing recorded, the front untouched.
     WorkerOutputs ro_blocks;
     ContactBuffer ro_contacts;
-    const std::size_t ro_n = track_front(s.bvtt(), front, ro_blocks, ro_contacts, /*readonly=*/true);
+    const std::size_t ro_n = track_front(s.bvtt(), front, ro_blocks, ro_contacts, /*readonly=*/true, task_work);
     EXPECT_EQ(test::hits(ro_contacts), want) << "readonly";
     for (std::size_t b = 0; b < ro_n; ++b) EXPECT_TRUE(ro_blocks[b].front.empty()) << "readonly block " << b;
     EXPECT_EQ(nodes_of(front), before) << "readonly tracking changed the front";
@@ -60,12 +64,18 @@ std::size_t track_through(BvttScene& s) {
     // Tracking: the pairs, then the next front.
     WorkerOutputs blocks;
     ContactBuffer contacts;
-    const std::size_t n = track_front(s.bvtt(), front, blocks, contacts);
-    EXPECT_EQ(n, (before.size() + kFrontBlock - 1) / kFrontBlock);
+    const std::size_t n = track_front(s.bvtt(), front, blocks, contacts, /*readonly=*/false, task_work);
+    const std::size_t num_blocks = (before.size() + kFrontBlock - 1) / kFrontBlock;
+    EXPECT_GE(n, num_blocks);
+    if (num_blocks <= kSerialBlocks) {
+      EXPECT_EQ(n, num_blocks) << "a small front is tracked whole, block by block";
+    }
+    any_left = any_left || n > num_blocks;
     EXPECT_EQ(test::hits(contacts), want);
     std::vector<NodePair> joined;
     std::uint64_t sprouted = 0, invalidated = 0;
     for (std::size_t b = 0; b < n; ++b) {
+      EXPECT_TRUE(blocks[b].stack.empty() && blocks[b].left.empty()) << "output " << b << " left nodes untraversed";
       joined.insert(joined.end(), blocks[b].front.begin(), blocks[b].front.end());
       sprouted += blocks[b].stats.sprouted;
       invalidated += blocks[b].stats.invalidated;
@@ -88,6 +98,9 @@ std::size_t track_through(BvttScene& s) {
     total_sprouted += sprouted;
   }
   EXPECT_GT(total_sprouted, 0u) << "the scene should make the front sprout";
+  if (expect_left) {
+    EXPECT_TRUE(any_left) << "no sprout went past its block's budget";
+  }
   return largest;
 }
 
@@ -96,6 +109,14 @@ std::size_t track_through(BvttScene& s) {
 TEST(FrontTracking, TrackedFrontMatchesBruteForceAtEveryStep) {
   BvttScene s(make_folding_cloth(22, 8), 1);  // fronts of several blocks: tracked in parallel
   EXPECT_GT(track_through(s), kSerialBlocks * kFrontBlock);
+}
+
+TEST(FrontTracking, SproutsPastTheirBudgetGoToRoundsOfTasks) {
+  BvttScene s(make_folding_cloth(22, 8), 1);
+  for (std::size_t visits : {std::size_t(1), std::size_t(3)}) {
+    SCOPED_TRACE(std::to_string(visits) + " units of work a block");
+    track_through(s, visits, /*expect_left=*/true);
+  }
 }
 
 TEST(FrontTracking, SmallFrontTrackedSeriallyMatchesBruteForce) {

@@ -1,7 +1,9 @@
 // PHC (parallel/phc.h): traverse_phc, the BVTT's top expanded breadth-first into tasks that
 // run in parallel, processes the same leaf pairs and records the same front (as a set) as the
 // serial traversal from the root, for any number of tasks: 1, 4, 64, the default and more
-// tasks than the top ever has (everything in the serial top); with and without recording.
+// tasks than the top ever has (everything in the serial top); with and without recording; and
+// for any budget of work a task has before the rest of its stack goes to the next round
+// (1, 7, the default, unlimited).
 #include <gtest/gtest.h>
 
 #include <oneapi/tbb/task_arena.h>
@@ -18,6 +20,8 @@ using test::BvttScene;
 namespace {
 
 constexpr std::size_t kMinTasks[] = {1, 4, 64, 0 /* phc_tasks() */, std::size_t(1) << 30};
+constexpr std::size_t kUnlimited = static_cast<std::size_t>(-1);
+constexpr std::size_t kWorkBudgets[] = {1, 7, kTaskWork, kUnlimited};
 
 std::vector<NodePair> all_fronts(const WorkerOutputs& outs) {
   std::vector<NodePair> all;
@@ -36,33 +40,43 @@ void expect_phc_equals_serial(const BvttScene& s, const char* what) {
   if (record) {
     ASSERT_FALSE(want_front.empty()) << what;
   }
-  for (std::size_t min_tasks : kMinTasks) {
-    SCOPED_TRACE(std::string(what) + ", min_tasks " + std::to_string(min_tasks) + (record ? ", record" : ""));
-    WorkerOutputs outs;
-    ContactBuffer contacts;
-    traverse_phc<record>(s.bvtt(), outs, contacts, min_tasks);
-    EXPECT_EQ(test::hits(contacts), want_hits);
-    EXPECT_EQ(all_fronts(outs), want_front);
-    std::uint64_t volume_tests = 0;
-    for (const WorkerOutput& o : outs) volume_tests += o.stats.volume_tests;
-    EXPECT_EQ(volume_tests, serial.stats.volume_tests) << "the same node tests";
-    const std::size_t want_tasks = min_tasks ? min_tasks : phc_tasks(s.bvh().size());
-    if (want_tasks == 1) {
-      EXPECT_EQ(outs.size(), 2u) << "one task: the root";
+  for (std::size_t min_tasks : kMinTasks)
+    for (std::size_t visits : kWorkBudgets) {
+      SCOPED_TRACE(std::string(what) + ", min_tasks " + std::to_string(min_tasks) + ", work " +
+                   (visits == kUnlimited ? std::string("unlimited") : std::to_string(visits)) +
+                   (record ? ", record" : ""));
+      WorkerOutputs outs;
+      ContactBuffer contacts;
+      traverse_phc<record>(s.bvtt(), outs, contacts, min_tasks, visits);
+      EXPECT_EQ(test::hits(contacts), want_hits);
+      EXPECT_EQ(all_fronts(outs), want_front);
+      std::uint64_t volume_tests = 0;
+      for (const WorkerOutput& o : outs) {
+        volume_tests += o.stats.volume_tests;
+        EXPECT_TRUE(o.stack.empty()) << "a task left nodes unvisited";
+      }
+      EXPECT_EQ(volume_tests, serial.stats.volume_tests) << "the same node tests";
+      const std::size_t want_tasks = min_tasks ? min_tasks : phc_tasks(s.bvh().size());
+      if (want_tasks == 1 && visits == kUnlimited) {
+        EXPECT_EQ(outs.size(), 2u) << "one task: the root";
+      }
+      if (want_tasks == 1 && visits == 1) {
+        // The root's task visits the root alone; its children are the next round's tasks.
+        EXPECT_GT(outs.size(), 3u) << "the rounds split the root's task";
+      }
+      if (want_tasks >= (std::size_t(1) << 30)) {
+        EXPECT_EQ(outs.size(), 1u) << "the top ran out of nodes";
+      }
+      // Otherwise at least min_tasks tasks, unless the top ran out of nodes first.
+      if (want_tasks > 1 && want_tasks < (std::size_t(1) << 30)) {
+        EXPECT_TRUE(outs.size() >= 1 + want_tasks || outs.size() == 1) << outs.size() << " outputs";
+      }
+      // Reused outputs (the engine keeps them from step to step) give the same again.
+      ContactBuffer again;
+      traverse_phc<record>(s.bvtt(), outs, again, min_tasks, visits);
+      EXPECT_EQ(test::hits(again), want_hits) << "second run";
+      EXPECT_EQ(all_fronts(outs), want_front) << "second run";
     }
-    if (want_tasks >= (std::size_t(1) << 30)) {
-      EXPECT_EQ(outs.size(), 1u) << "the top ran out of nodes";
-    }
-    // Otherwise at least min_tasks tasks, unless the top ran out of nodes first.
-    if (want_tasks > 1 && want_tasks < (std::size_t(1) << 30)) {
-      EXPECT_TRUE(outs.size() >= 1 + want_tasks || outs.size() == 1) << outs.size() << " outputs";
-    }
-    // Reused outputs (the engine keeps them from step to step) give the same again.
-    ContactBuffer again;
-    traverse_phc<record>(s.bvtt(), outs, again, min_tasks);
-    EXPECT_EQ(test::hits(again), want_hits) << "second run";
-    EXPECT_EQ(all_fronts(outs), want_front) << "second run";
-  }
 }
 
 void expect_every_step(BvttScene& s, const char* what) {
