@@ -43,7 +43,7 @@ struct WorkerOutput {
   std::vector<RawContact> contacts;  ///< found by this unit, not yet handed to the buffer
   std::vector<NodePair> stack;       ///< traversal stack (kept to reuse the allocation)
   /// Nodes this unit left to be traversed by tasks of their own (a sprout past its block's
-  /// budget of visits, BvttFront::track).
+  /// budget of work, BvttFront::track).
   std::vector<NodePair> left;
   std::vector<QueuedPair> queued;    ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts

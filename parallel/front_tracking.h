@@ -20,16 +20,16 @@ namespace mccd::detail {
 /// Front nodes per block: enough work to amortise a task, small enough that sprouting blocks
 /// balance across threads and that small scenes get more blocks than kSerialBlocks (with
 /// leaves of up to 21 triangles a front holds few nodes).
-inline constexpr std::size_t kFrontBlock = 512;
+inline constexpr std::size_t kFrontBlock = 128;
 /// Fronts of at most this many blocks are tracked on the calling thread (block by block, as
 /// in parallel): a parallel loop costs more in waking threads than it saves there.
 inline constexpr std::size_t kSerialBlocks = 4;
 
-/// Tracks every block of `front` into blocks[0, n), then what the blocks' sprouts left past
-/// their budget (kTaskWork each block) in rounds of tasks into blocks[n, m)
-/// (traverse_rounds), and returns m; the front itself is advanced by the caller from those
-/// outputs in order (BvttFront::advance); sprouting is BvttFront::track. `readonly` (the
-/// simulator queries): the same tests without recording a next front
+/// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
+/// by the caller from those outputs (BvttFront::advance); sprouting is BvttFront::track. What a
+/// block's sprouts leave past its budget of work (`task_work`, kTaskWork) is traversed apart,
+/// in parallel, and appended to the block's output (traverse_apart; all of it sprouted).
+/// `readonly` (the simulator queries): the same tests without recording a next front
 /// (BvttFront::track_readonly).
 template <class Bvtt>
 std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs& blocks,
@@ -47,21 +47,23 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
       BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else
       BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
+    if (!o.left.empty()) {
+      const std::size_t before = o.front.size();
+      if (readonly)
+        traverse_apart<false>(bvtt, o.left, o, contacts, task_work);
+      else
+        traverse_apart<true>(bvtt, o.left, o, contacts, task_work);
+      o.stats.sprouted += o.front.size() - before;
+      o.left.clear();
+    }
     flush(o, contacts);
   };
   if (serial) {
     for (std::size_t b = 0; b < n; ++b) run(b);  // the same blocks, without waking a thread
-    return n;
+  } else {
+    for_each_index(n, run, tbb::simple_partitioner());
   }
-  for_each_index(n, run, tbb::simple_partitioner());
-  std::vector<NodePair> left;
-  for (std::size_t b = 0; b < n; ++b) {
-    left.insert(left.end(), blocks[b].left.begin(), blocks[b].left.end());
-    blocks[b].left.clear();
-  }
-  if (left.empty()) return n;
-  return readonly ? traverse_rounds<false>(bvtt, left, blocks, n, contacts, task_work)
-                  : traverse_rounds<true>(bvtt, left, blocks, n, contacts, task_work, /*count_sprouted=*/true);
+  return n;
 }
 
 }  // namespace mccd::detail

@@ -34,50 +34,51 @@ void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contact
 }
 
 /// Work a task does (Bvtt::traverse's units: a node test 1, a leaf pair more) before it
-/// hands the rest of its stack on: each node left there becomes a task of the next round. A
-/// subtree pair full of contacts (a cloth folding onto itself) is then spread over the threads
-/// instead of deciding the step's time as one task. A count, never a time, so the split is
-/// the same on every run and thread count.
+/// hands the rest of its stack on: each node left there becomes a task of its own, the tasks
+/// in parallel (traverse_split). A subtree pair full of contacts (a cloth folding onto itself)
+/// is then spread over the threads instead of deciding the step's time as one task. A count,
+/// never a time, so the split is the same on every run and thread count.
 inline constexpr std::size_t kTaskWork = 1024;
 
-/// Traverses `tasks` (consumed) in rounds into outs[used, ...): every task of a round in
-/// parallel, each for at most `task_work` units of work; what they leave on their stacks, in task
-/// order, is the next round's tasks. With `record`, every stop recorded is counted as sprouted
-/// (front tracking's leftovers). Returns the new number of outputs used; outs grows as needed
-/// and never shrinks here (the outputs of earlier steps are reused).
 template <bool record, class Bvtt>
-std::size_t traverse_rounds(const Bvtt& bvtt, std::vector<NodePair>& tasks, WorkerOutputs& outs, std::size_t used,
-                            ContactBuffer& contacts, std::size_t task_work, bool count_sprouted = false) {
-  std::vector<NodePair> next;
-  task_work = std::max<std::size_t>(task_work, 1);  // a task that does nothing never ends
-  while (!tasks.empty()) {
-    const std::size_t base = used;
-    used += tasks.size();
-    if (outs.size() < used) outs.resize(used);
-    for_each_index(
-        tasks.size(),
-        [&](std::size_t i) {
-          WorkerOutput& o = outs[base + i];
-          o.clear();
-          o.stack.push_back(tasks[i]);
-          bvtt.template traverse<record>(o, task_work);
-          o.left.swap(o.stack);  // (flush releases the stack)
-          if (count_sprouted) o.stats.sprouted += o.front.size();
-          flush(o, contacts);
-        },
-        tbb::auto_partitioner());
-    next.clear();
-    for (std::size_t i = base; i < used; ++i) {
-      next.insert(next.end(), outs[i].left.begin(), outs[i].left.end());
-      outs[i].left.clear();
-    }
-    tasks.swap(next);
+void traverse_split(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contacts, std::size_t task_work);
+
+/// Traverses each of `nodes` as a task of its own (traverse_split), the tasks in parallel,
+/// and appends their outputs to `out` in the order of `nodes`: their stops to out.front, their
+/// counts to out.stats (their contacts go to the buffer). The order depends on `nodes` alone,
+/// never on which thread ran what.
+template <bool record, class Bvtt>
+void traverse_apart(const Bvtt& bvtt, const std::vector<NodePair>& nodes, WorkerOutput& out, ContactBuffer& contacts,
+                    std::size_t task_work) {
+  std::vector<WorkerOutput> parts(nodes.size());
+  for_each_index(
+      nodes.size(),
+      [&](std::size_t i) {
+        WorkerOutput& o = parts[i];
+        o.stack.push_back(nodes[i]);
+        traverse_split<record>(bvtt, o, contacts, task_work);
+        flush(o, contacts);
+      },
+      tbb::simple_partitioner());
+  for (const WorkerOutput& o : parts) {
+    out.front.insert(out.front.end(), o.front.begin(), o.front.end());
+    out.stats += o.stats;
   }
-  return used;
 }
 
-/// PHC: outs[0] receives the serial top's work, outs[1 + i] task i's, the tasks of each round
-/// after those of the round before (traverse_rounds); outs is resized to the number of tasks + 1.
+/// Depth-first traversal of out.stack for at most `task_work` units of work (at least 1);
+/// what is left then is traversed apart (traverse_apart) and appended to `out`.
+template <bool record, class Bvtt>
+void traverse_split(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contacts, std::size_t task_work) {
+  bvtt.template traverse<record>(out, std::max<std::size_t>(task_work, 1));
+  if (out.stack.empty()) return;
+  std::vector<NodePair> left;
+  left.swap(out.stack);
+  traverse_apart<record>(bvtt, left, out, contacts, task_work);
+}
+
+/// PHC: outs[0] receives the serial top's work, outs[1 + i] task i's (with the parts it split
+/// off, traverse_split); outs is resized to the number of tasks + 1.
 template <bool record, class Bvtt>
 void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts,
                   std::size_t min_tasks = 0, std::size_t task_work = kTaskWork) {
@@ -96,7 +97,17 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
   }
   bvtt.finish(outs[0]);
   flush(outs[0], contacts);
-  outs.resize(traverse_rounds<record>(bvtt, tasks, outs, 1, contacts, task_work));
+  outs.resize(1 + tasks.size());
+  for_each_index(
+      tasks.size(),
+      [&](std::size_t i) {
+        WorkerOutput& o = outs[1 + i];
+        o.clear();
+        o.stack.push_back(tasks[i]);
+        traverse_split<record>(bvtt, o, contacts, task_work);
+        flush(o, contacts);
+      },
+      tbb::auto_partitioner());
 }
 
 }  // namespace mccd::detail
