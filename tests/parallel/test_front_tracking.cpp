@@ -120,7 +120,7 @@ TEST(FrontTracking, SproutsPastTheirBudgetAreTraversedApart) {
 }
 
 TEST(FrontTracking, SmallFrontTrackedSeriallyMatchesBruteForce) {
-  BvttScene s(make_folding_cloth(8, 6), 1);
+  BvttScene s(make_folding_cloth(5, 6), 1);
   EXPECT_LE(track_through(s), kSerialBlocks * kFrontBlock);
 }
 
