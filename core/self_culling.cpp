@@ -370,7 +370,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     return count;
   };
   auto subtree = [&](auto&& self, std::uint32_t i) -> std::uint64_t {
-    if (bvh.subtree_size(i) <= 1024) return serial(i, i + bvh.subtree_size(i));
+    if (bvh.subtree_size(i) <= 256) return serial(i, i + bvh.subtree_size(i));
     if (certifies(i)) {
       std::fill(top_.begin() + i, top_.begin() + i + bvh.subtree_size(i), i);
       return 1;

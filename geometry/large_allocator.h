@@ -72,9 +72,10 @@ inline void populate_pages([[maybe_unused]] void* p, [[maybe_unused]] std::size_
 /// Reserves room for `n` elements in an empty std::vector of any allocator (one handed to the
 /// caller) and advises its huge pages before their first touch, by the rule of huge_part: the
 /// capacity is grown by one huge page so that the last page the `n` elements reach lies inside
-/// it. Below half a huge page, a plain reserve.
+/// it. Below half a huge page, a plain reserve. With `populate`, the pages the `n` elements
+/// reach are backed at once (populate_pages); without, the caller backs them (in parallel).
 template <class T, class A>
-void reserve_huge(std::vector<T, A>& v, std::size_t n) {
+void reserve_huge(std::vector<T, A>& v, std::size_t n, bool populate = true) {
   const std::size_t bytes = n * sizeof(T);
   if (bytes < kHugeMin || !v.empty()) {
     v.reserve(n);
@@ -89,7 +90,7 @@ void reserve_huge(std::vector<T, A>& v, std::size_t n) {
   const std::uintptr_t last = first + huge_part(end - first);
   madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
 #endif
-  populate_pages(v.data(), bytes);
+  if (populate) populate_pages(v.data(), bytes);
 }
 
 template <class T>

@@ -38,7 +38,7 @@ void traverse_serial(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contact
 /// in parallel (traverse_split). A subtree pair full of contacts (a cloth folding onto itself)
 /// is then spread over the threads instead of deciding the step's time as one task. A count,
 /// never a time, so the split is the same on every run and thread count.
-inline constexpr std::size_t kTaskWork = 1024;
+inline constexpr std::size_t kTaskWork = 256;
 
 template <bool record, class Bvtt>
 void traverse_split(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contacts, std::size_t task_work);

@@ -98,7 +98,7 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
     // from them when a leaf pair or the self stage first needs them).
     const Bounds3 box = step_bounds(x0, x1, state.chunk_bounds);
     if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
-    dynamic_for(topo.num_vertices(), 8192,
+    dynamic_for(topo.num_vertices(), 2048,
                 [&](std::size_t b, std::size_t e) { state.lanes.quantize_vertices(b, e, state.swept); });
   }
 }

@@ -187,10 +187,11 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   bool any_ws = false;
   for (const VariantSummary& v : variants) any_ws = any_ws || v.config == "work-span";
   if (any_ws) {
-    o << "\n## Work and span\n\nEach method once on 1 thread with its stages' work and span measured (every task "
-         "of every\nparallel loop timed; the search and the self stage as one branch). Predicted ms/frame on P "
-         "threads:\nthe time outside the stages plus, per stage, span + (work - span) / P; beside it the measured "
-         "median\n(error = predicted / measured - 1). Memory bandwidth and scheduling costs are not in the model.\n\n"
+    o << "\n## Work and span\n\nEach method three times on 1 thread with its stages' work and span measured "
+         "(every task of every\nparallel loop timed, nested loops and invokes at every depth; the search and the self "
+         "stage as one branch;\neach stage's least work and span of the three). Predicted ms/frame on P threads: the "
+         "time outside the\nstages plus, per stage, span + (work - span) / P; beside it the measured median (error = "
+         "predicted /\nmeasured - 1). Memory bandwidth and scheduling costs are not in the model.\n\n"
          "| scene | method | stage | work ms/frame | span ms/frame | parallelism |\n| --- | --- | --- | --- | --- | --- |\n";
     for (const VariantSummary& v : variants) {
       if (v.config != "work-span") continue;

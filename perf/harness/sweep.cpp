@@ -2,6 +2,7 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -95,9 +96,28 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
     out.push_back(std::move(rec));
   };
   if (options.work_span_runs) {
+    // Three measured runs; each stage's work and span is the least of the three (a stall of a
+    // shared machine only adds to a task, and one stalled task would be taken for the span).
     SceneOptions measured;
     measured.work_span = true;
-    for (Method m : options.methods) one_thread(m, measured, "work-span", "work and span");
+    for (Method m : options.methods) {
+      one_thread(m, measured, "work-span", "work and span");
+      RunRecord& best = out.back();
+      for (int k = 1; k < 3; ++k) {
+        const RunRecord r = run_once(w, m, 1, nullptr, &reference, measured);
+        auto least = [](WorkSpan& a, const WorkSpan& b) {
+          a.work = std::min(a.work, b.work);
+          a.span = std::min(a.span, b.span);
+        };
+        least(best.sum.ws_update, r.sum.ws_update);
+        least(best.sum.ws_refit, r.sum.ws_refit);
+        least(best.sum.ws_search, r.sum.ws_search);
+        least(best.sum.ws_self, r.sum.ws_self);
+        least(best.sum.ws_branch, r.sum.ws_branch);
+        least(best.sum.ws_join, r.sum.ws_join);
+        best.wall_ms = std::min(best.wall_ms, r.wall_ms);
+      }
+    }
   }
   if (options.paper_runs) {
     SceneOptions paper;

@@ -43,9 +43,10 @@ struct SweepOptions {
   /// against the reference like every warm-up): the volume tests its front saves and the
   /// front length its orphan set saves (figures 7 and 9).
   bool paper_runs = true;
-  /// Also runs each method once on 1 thread with its stages' work and span measured
-  /// (SceneOptions::work_span; config "work-span", checked against the reference), from which
-  /// the report predicts every thread count (predicted_ms).
+  /// Also runs each method three times on 1 thread with its stages' work and span measured
+  /// (SceneOptions::work_span; config "work-span", checked against the reference; each
+  /// stage's least work and span of the three kept, as one record), from which the report
+  /// predicts every thread count (predicted_ms).
   bool work_span_runs = true;
   std::function<void(const std::string&)> progress;    ///< one line per run, may be empty
 };

@@ -1,14 +1,17 @@
 // Work and span of a step's stages (SceneOptions::work_span, parallel/tbb_executor.h): the
 // same contacts as without; at one thread each stage's work is its own time and its span at
 // most its work; through the flow graph the search and the self stage count as one branch
-// whose span is the longer of theirs; off, nothing is measured.
+// whose span is the longer of theirs; off, nothing is measured; loops and invokes nested in a
+// task add their own span to the task's, not their whole time.
 #include <gtest/gtest.h>
 
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include <mccd/parallel/scene.h>
+#include <mccd/parallel/tbb_executor.h>
 
 #include "fixtures/scenes.h"
 
@@ -67,4 +70,41 @@ TEST(WorkSpan, FlowGraphBranchSpanIsTheLongerOfSearchAndSelf) {
     // every task of a loop is at most the loop: the span never exceeds the stage's wall time
     EXPECT_LE(st.ws_search.span, st.t_front * 1.2 + 2e-4);
   }
+}
+
+namespace {
+
+/// Busy for about `seconds` (a task of known length; a stall of the machine only adds).
+void spin(double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+  }
+}
+
+}  // namespace
+
+// A loop inside a loop's task, and a recursive invoke: the span follows the longest path
+// through the nested loops (what a greedy scheduler could reach), not the outer task whole.
+TEST(WorkSpan, NestedLoopsAndInvokesCountAtEveryDepth) {
+  using namespace mccd::detail;
+  tbb::task_arena one(1);
+  one.execute([] {
+    WorkSpanRecorder recorder;
+    const StageClock clock(&recorder);
+    // 2 outer tasks, each a loop of 8 inner tasks of 1 ms: work 16 ms, span about 1 ms (the
+    // outer task whole would be 8 ms).
+    for_each_index(
+        2, [](std::size_t) { for_each_index(8, [](std::size_t) { spin(1e-3); }, tbb::simple_partitioner()); },
+        tbb::simple_partitioner());
+    // A recursive invoke 3 levels deep, 1 ms at each leaf: work 8 ms, span about 1 ms.
+    auto split = [](auto&& self, int depth) -> void {
+      if (depth == 0) return spin(1e-3);
+      invoke_pair([&] { self(self, depth - 1); }, [&] { self(self, depth - 1); });
+    };
+    split(split, 3);
+    const WorkSpan ws = clock.work_span();
+    EXPECT_GE(ws.work, 24e-3);
+    EXPECT_GE(ws.span, 2e-3);  // at least one leaf of each
+    EXPECT_LE(ws.span, 6e-3) << "a nested loop counted as one task";
+  });
 }
