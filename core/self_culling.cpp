@@ -325,7 +325,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   };
   // The signs each needed leaf's faces share, in parallel over the nodes (a leaf writes its
   // own); then every inner node's, the signs both children share.
-  ex.dynamic_for(n, 1024, [&](std::size_t b, std::size_t e) {
+  ex.dynamic_for(n, 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const std::uint32_t node = static_cast<std::uint32_t>(i);
       if (!bvh.leaf(node) || !signed_[node]) continue;

@@ -25,6 +25,10 @@ namespace mccd::detail {
 
 using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
 
+/// Vertices per chunk of the update's loops: a 64th of the scene's, from 256 to 2048 (a small
+/// scene still gives 16 threads several chunks each; a large one keeps its chunks long).
+inline std::size_t vertex_grain(std::size_t vertices) { return std::clamp<std::size_t>(vertices / 64, 256, 2048); }
+
 /// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
 /// computed once; edges' and faces' are merged from their vertices' when needed). `kept`: see
 /// SweptVolumes::update_vertices.
@@ -32,10 +36,10 @@ template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
                           const std::uint8_t* kept = nullptr) {
-  constexpr std::size_t kGrain = 2048;
+  const std::size_t grain = vertex_grain(topo.num_vertices());
   if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
     // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
-    dynamic_for(topo.num_vertices(), kGrain, [&](std::size_t b, std::size_t e) {
+    dynamic_for(topo.num_vertices(), grain, [&](std::size_t b, std::size_t e) {
       swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
     });
     return;
@@ -43,7 +47,7 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
   // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
   for (const auto& range : vertices) {
     const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, kGrain, [&](std::size_t b, std::size_t e) {
+    static_for(e0 - b0, grain, [&](std::size_t b, std::size_t e) {
       swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
     });
   }
@@ -88,7 +92,8 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
   const MeshTopology& topo = scene.topology();
   MCCD_ASSERT(x0.rows() == topo.num_vertices() && x1.rows() == topo.num_vertices(), "positions not sized to the scene");
   if (compare)
-    dynamic_for(topo.num_vertices(), 4096, [&](std::size_t b, std::size_t e) { unchanged.compare(x0, x1, b, e); });
+    dynamic_for(topo.num_vertices(), 2 * vertex_grain(topo.num_vertices()),
+                [&](std::size_t b, std::size_t e) { unchanged.compare(x0, x1, b, e); });
   const SceneTopology::Ranges& moving = scene.moving();
   update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices,
                        unchanged.active() ? unchanged.same() : nullptr);
@@ -98,7 +103,7 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
     // from them when a leaf pair or the self stage first needs them).
     const Bounds3 box = step_bounds(x0, x1, state.chunk_bounds);
     if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
-    dynamic_for(topo.num_vertices(), 2048,
+    dynamic_for(topo.num_vertices(), vertex_grain(topo.num_vertices()),
                 [&](std::size_t b, std::size_t e) { state.lanes.quantize_vertices(b, e, state.swept); });
   }
 }
