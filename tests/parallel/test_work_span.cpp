@@ -105,6 +105,8 @@ TEST(WorkSpan, NestedLoopsAndInvokesCountAtEveryDepth) {
     const WorkSpan ws = clock.work_span();
     EXPECT_GE(ws.work, 24e-3);
     EXPECT_GE(ws.span, 2e-3);  // at least one leaf of each
-    EXPECT_LE(ws.span, 6e-3) << "a nested loop counted as one task";
+    // About 2 ms; counting a nested loop or invoke as one task gives at least 12 ms (8 + 4).
+    // The margin is for a busy machine stalling a task.
+    EXPECT_LE(ws.span, 7e-3) << "a nested loop counted as one task";
   });
 }
