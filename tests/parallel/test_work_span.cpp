@@ -85,28 +85,31 @@ void spin(double seconds) {
 
 // A loop inside a loop's task, and a recursive invoke: the span follows the longest path
 // through the nested loops (what a greedy scheduler could reach), not the outer task whole.
+// Measured five times, the least span kept: a busy machine stalling a task only adds to it.
 TEST(WorkSpan, NestedLoopsAndInvokesCountAtEveryDepth) {
   using namespace mccd::detail;
   tbb::task_arena one(1);
-  one.execute([] {
-    WorkSpanRecorder recorder;
-    const StageClock clock(&recorder);
-    // 2 outer tasks, each a loop of 8 inner tasks of 1 ms: work 16 ms, span about 1 ms (the
-    // outer task whole would be 8 ms).
-    for_each_index(
-        2, [](std::size_t) { for_each_index(8, [](std::size_t) { spin(1e-3); }, tbb::simple_partitioner()); },
-        tbb::simple_partitioner());
-    // A recursive invoke 3 levels deep, 1 ms at each leaf: work 8 ms, span about 1 ms.
-    auto split = [](auto&& self, int depth) -> void {
-      if (depth == 0) return spin(1e-3);
-      invoke_pair([&] { self(self, depth - 1); }, [&] { self(self, depth - 1); });
-    };
-    split(split, 3);
-    const WorkSpan ws = clock.work_span();
-    EXPECT_GE(ws.work, 24e-3);
-    EXPECT_GE(ws.span, 2e-3);  // at least one leaf of each
-    // About 2 ms; counting a nested loop or invoke as one task gives at least 12 ms (8 + 4).
-    // The margin is for a busy machine stalling a task.
-    EXPECT_LE(ws.span, 7e-3) << "a nested loop counted as one task";
-  });
+  double least_span = 1e9;
+  for (int run = 0; run < 5; ++run)
+    one.execute([&] {
+      WorkSpanRecorder recorder;
+      const StageClock clock(&recorder);
+      // 2 outer tasks, each a loop of 8 inner tasks of 1 ms: work 16 ms, span about 1 ms (the
+      // outer task whole would be 8 ms).
+      for_each_index(
+          2, [](std::size_t) { for_each_index(8, [](std::size_t) { spin(1e-3); }, tbb::simple_partitioner()); },
+          tbb::simple_partitioner());
+      // A recursive invoke 3 levels deep, 1 ms at each leaf: work 8 ms, span about 1 ms.
+      auto split = [](auto&& self, int depth) -> void {
+        if (depth == 0) return spin(1e-3);
+        invoke_pair([&] { self(self, depth - 1); }, [&] { self(self, depth - 1); });
+      };
+      split(split, 3);
+      const WorkSpan ws = clock.work_span();
+      EXPECT_GE(ws.work, 24e-3);
+      EXPECT_GE(ws.span, 2e-3);  // at least one leaf of each
+      least_span = std::min(least_span, ws.span);
+    });
+  // About 2 ms; counting a nested loop or invoke as one task gives at least 12 ms (8 + 4).
+  EXPECT_LE(least_span, 7e-3) << "a nested loop counted as one task";
 }
