@@ -3,8 +3,10 @@
 /// in BVH-node order, is cut into fixed blocks of consecutive nodes (cache-ordered: a block's
 /// nodes share BVH nodes); a parallel_for hands the blocks to idle threads as they finish
 /// (work stealing). Each block writes its own part of the next front, its own contacts (fed
-/// to the buffer as one batch) and its own counters; the parts are joined in block order, so
-/// neither the front nor the contacts depend on the thread count.
+/// to the buffer as one batch) and its own counters; a sprout past the block's budget of work
+/// goes on in tasks of its own, appended to the block's part in order (parallel/phc.h). The
+/// parts are joined in block order, so neither the front nor the contacts depend on the thread
+/// count.
 #include <algorithm>
 #include <vector>
 

@@ -3,9 +3,11 @@
 /// paper's PHC baseline (section 3.3), also used to build the front: the top of the BVTT is
 /// visited breadth-first, serially, round by round, until at least `min_tasks` nodes wait (or
 /// none); each waiting node's subtree is then traversed depth-first as one task, the tasks in
-/// parallel. The split depends only on the geometry, never on the thread count, and every node
-/// is visited exactly as in a serial traversal: the same tests, stops and contacts. PHC redoes
-/// this from the root every step; FBD (parallel/front_tracking.h) does it once per rebuild.
+/// parallel, and a task past its budget of work hands the rest of its stack to tasks of its
+/// own (traverse_split). Both splits depend only on the geometry, never on the thread count,
+/// and every node is visited exactly as in a serial traversal: the same tests, stops and
+/// contacts. PHC redoes this from the root every step; FBD (parallel/front_tracking.h) does it
+/// once per rebuild.
 #include <algorithm>
 #include <vector>
 
