@@ -51,18 +51,18 @@ class BvttFront {
   /// stays; an overlapping inner node is replaced by the stops of its subtree (no pruning);
   /// a node covered by a self-culling certificate stays untested. out.front receives this
   /// block's part of the next front, out.stats its S and B counts. The block's sprouts do at
-  /// most `max_visits` units of work together (Bvtt::traverse): what is left of a sprout past
-  /// that goes to out.left,
-  /// for the caller to traverse (recording the stops: the rest of the next front, all sprouted).
+  /// most `max_work` units of work together (Bvtt::traverse): what is left of a sprout past
+  /// that goes to out.left, for the caller to traverse (recording the stops: the rest of the
+  /// next front, all of it sprouted).
   template <class Bvtt>
   static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                    std::size_t max_visits = static_cast<std::size_t>(-1));
+                    std::size_t max_work = static_cast<std::size_t>(-1));
   /// The same tests for a query: the front is read, not changed (nothing is recorded;
-  /// overlapping inner nodes are traversed below, up to `max_visits` as in track()). Stops
+  /// overlapping inner nodes are traversed below, up to `max_work` as in track()). Stops
   /// when the query stops.
   template <class Bvtt>
   static void track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                             std::size_t max_visits = static_cast<std::size_t>(-1));
+                             std::size_t max_work = static_cast<std::size_t>(-1));
 
  private:
   static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
@@ -84,9 +84,9 @@ void sprout_within(const Bvtt& bvtt, WorkerOutput& out, std::size_t& budget) {
 
 template <class Bvtt>
 void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                      std::size_t max_visits) {
+                      std::size_t max_work) {
   const auto& bvh = bvtt.bvh();
-  std::size_t budget = max_visits;
+  std::size_t budget = max_work;
   std::uint32_t touched = 0;
   for (const NodePair* it = begin; it != end; ++it) {
     const NodePair n = *it;
@@ -127,9 +127,9 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
 
 template <class Bvtt>
 void BvttFront::track_readonly(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                               std::size_t max_visits) {
+                               std::size_t max_work) {
   const auto& bvh = bvtt.bvh();
-  std::size_t budget = max_visits;
+  std::size_t budget = max_work;
   for (const NodePair* it = begin; it != end && !bvtt.stopped(); ++it) {
     const NodePair n = *it;
     MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
