@@ -42,12 +42,8 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     // A fresh array every step (it is the caller's): its pages backed in parallel, 64 KiB at a
     // time (one fault per page, serially, was most of the join's time on many threads).
     auto* bytes = reinterpret_cast<unsigned char*>(res.contacts.data());
-    const std::size_t total = n * sizeof(Contact);
-    constexpr std::size_t kPiece = std::size_t(1) << 16;
-    for_each_index(
-        (total + kPiece - 1) / kPiece,
-        [&](std::size_t i) { populate_pages(bytes + i * kPiece, std::min(kPiece, total - i * kPiece)); },
-        tbb::simple_partitioner());
+    dynamic_for(n * sizeof(Contact), std::size_t(1) << 16,
+                [&](std::size_t b, std::size_t e) { populate_pages(bytes + b, e - b); });
   }
   res.contacts.resize(n);
   // Converted by chunks, each counting its kinds and its earliest time of impact (added up in

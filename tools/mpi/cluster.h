@@ -10,7 +10,10 @@
 ///
 /// Waiting for a message polls with short sleeps instead of spinning, so that a waiting rank
 /// leaves its core to the ranks (and the oneTBB threads) still working.
+#include <cstdlib>
 #include <string>
+
+#include <mccd/geometry/error.h>
 
 namespace mccd::cli {
 
@@ -32,6 +35,25 @@ class Cluster {
   std::string where() const {
     return size() > 1 ? "rank " + std::to_string(rank()) + " of " + std::to_string(size()) : std::string();
   }
+};
+
+/// One process, rank 0 of 1; sending or receiving is refused, saying `why` there is no other
+/// rank ("not started by mpirun", "built without MPI").
+class SingleProcess final : public Cluster {
+ public:
+  explicit SingleProcess(const char* why) : why_(why) {}
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  [[noreturn]] void abort(int status) override { std::exit(status); }
+  void send(int, int, const std::string&) override {
+    throw Error(std::string("no other rank to send to (") + why_ + ")");
+  }
+  std::string recv(int, int, int*) override {
+    throw Error(std::string("no other rank to receive from (") + why_ + ")");
+  }
+
+ private:
+  const char* why_;
 };
 
 /// This process's cluster (initialised on first call; MPI finalised at exit).

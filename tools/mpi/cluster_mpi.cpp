@@ -88,19 +88,11 @@ class Mpi final : public Cluster {
   int rank_ = 0, size_ = 1;
 };
 
-class Single final : public Cluster {
- public:
-  int rank() const override { return 0; }
-  int size() const override { return 1; }
-  [[noreturn]] void abort(int status) override { std::exit(status); }
-  void send(int, int, const std::string&) override { throw Error("no other rank to send to (not started by mpirun)"); }
-  std::string recv(int, int, int*) override { throw Error("no other rank to receive from (not started by mpirun)"); }
-};
-
 }  // namespace
 
 Cluster& cluster() {
-  static Cluster* const c = launched_by_mpi() ? static_cast<Cluster*>(new Mpi) : new Single;
+  static Cluster* const c =
+      launched_by_mpi() ? static_cast<Cluster*>(new Mpi) : new SingleProcess("not started by mpirun");
   return *c;
 }
 
