@@ -12,20 +12,23 @@
 
 using namespace mccd::detail;
 
-TEST(LargeAllocator, HugePartAdvisesTheLastPageOnlyWhenHalfUsed) {
+TEST(LargeAllocator, HugePartAdvisesTheLastPageOnlyWhenThreeQuartersUsed) {
+  constexpr std::size_t kFull = kHugePage / 4 * 3;
   EXPECT_EQ(huge_part(0), 0u);
-  EXPECT_EQ(huge_part(kHugePage / 2 - 1), 0u);
-  EXPECT_EQ(huge_part(kHugePage / 2), kHugePage);
+  EXPECT_EQ(huge_part(kHugePage / 2), 0u);
+  EXPECT_EQ(huge_part(kFull - 1), 0u);
+  EXPECT_EQ(huge_part(kFull), kHugePage);
   EXPECT_EQ(huge_part(kHugePage), kHugePage);
-  EXPECT_EQ(huge_part(kHugePage + kHugePage / 2 - 1), kHugePage);
-  EXPECT_EQ(huge_part(kHugePage + kHugePage / 2), 2 * kHugePage);
+  EXPECT_EQ(huge_part(kHugePage + kFull - 1), kHugePage);
+  EXPECT_EQ(huge_part(kHugePage + kFull), 2 * kHugePage);
   for (std::size_t bytes = 1; bytes < 5 * kHugePage; bytes += 4099) {
     const std::size_t part = huge_part(bytes);
     ASSERT_EQ(part % kHugePage, 0u) << bytes;
-    // Every whole huge page of the array, and never more than half a huge page of nothing.
+    // Every whole huge page of the array, and never more than a quarter of a huge page of
+    // nothing.
     ASSERT_GE(part, bytes / kHugePage * kHugePage) << bytes;
     if (part > bytes) {
-      ASSERT_LE(part - bytes, kHugePage / 2) << bytes;
+      ASSERT_LE(part - bytes, kHugePage / 4) << bytes;
     }
   }
 }
