@@ -36,6 +36,10 @@ struct ConservativeCcd {
   unsigned filter(Query& q, CcdKind kind, const CcdPoints& p, unsigned within) const {
     return q.filter(kind, p, options.min_distance, within);
   }
+  /// filter() where the vector filter already returned `known` for quarters holding `within`.
+  unsigned filter_known(Query& q, CcdKind kind, const CcdPoints& p, unsigned within, unsigned known) const {
+    return q.filter_known(kind, p, within, known);
+  }
   /// The elementary test, after filter() returned non-zero for the same query.
   bool test(Query& q, CcdKind kind, double& toi, StepStats& s) const {
     return q.test(toi, kind == CcdKind::VertexFace ? &s.vf_ccd : &s.ee_ccd);
@@ -202,8 +206,11 @@ class FeatureTests {
           }
         }
         const std::size_t before = out.contacts.size();
+        // The filter's own result for the quarters the vector filter was asked (those of the
+        // queued pair, holding the pair's own): not computed twice.
+        const bool known = filtered[i] != kUndecided && !(quarters & ~(p.quarters & 0xFu));
         narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
-               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out);
+               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out, known ? filtered[i] : kUndecided);
         if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
       }
     }
@@ -226,14 +233,20 @@ class FeatureTests {
   /// The narrow phase of a pair past its volume tests, in the quarters `quarters`: the points
   /// `ids` (VF: vertex, then the face's corners; EE: edge a's ends, then edge b's), the pair
   /// (a, b) as reported.
+  /// `known`: the vector filter's result for quarters holding `quarters` (run_queued()), or
+  /// kUndecided.
   void narrow(const std::array<std::uint32_t, 4>& ids, std::uint32_t a, std::uint32_t b, ContactKind kind,
-              unsigned quarters, WorkerOutput& out) const {
+              unsigned quarters, WorkerOutput& out, unsigned known = kUndecided) const {
     const bool vf = kind == ContactKind::VertexFace;
     const CcdKind ccd = vf ? CcdKind::VertexFace : CcdKind::EdgeEdge;
     CcdPoints p;
     load(ids, p);
     typename NarrowPhase::Query q;
-    const unsigned kept = narrow_.filter(q, ccd, p, quarters);
+    unsigned kept;
+    if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>)
+      kept = known != kUndecided ? narrow_.filter_known(q, ccd, p, quarters, known) : narrow_.filter(q, ccd, p, quarters);
+    else
+      kept = narrow_.filter(q, ccd, p, quarters);
     if (!kept) {
       ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
       return;

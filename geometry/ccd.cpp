@@ -65,6 +65,7 @@
 // stage (a). See geometry/ccd.h for the contract; the error analysis sits beside each stage
 // (ccd_bernstein.h, ccd_stages.h, ccd_distance.h, ccd_fast.h, ccd_search.h).
 #include <mccd/geometry/ccd.h>
+#include <mccd/geometry/assert.h>
 
 #include <mccd/geometry/ccd_detail.h>
 #include <mccd/geometry/ccd_distance.h>
@@ -216,6 +217,23 @@ unsigned quarters_of(const Setup<double>& S, unsigned within) {
 }
 
 }  // namespace
+
+unsigned FilteredCcd::filter_known(CcdKind kind, const CcdPoints& p, unsigned within, unsigned known) {
+  kind_ = kind;
+  points_ = &p;
+  d_ = 0;
+  const Prepared r = kind == CcdKind::VertexFace ? prepare<CcdKind::VertexFace>(p, 0.0, S_, toi_, nullptr, false)
+                                                 : prepare<CcdKind::EdgeEdge>(p, 0.0, S_, toi_, nullptr, false);
+  state_ = static_cast<int>(r);
+  switch (r) {
+    case Prepared::Miss: return 0;
+    case Prepared::Hit:
+    case Prepared::HitUnsafe: return within;
+    case Prepared::Continue: break;
+  }
+  MCCD_ASSERT(quarters_of(S_, within) == (known & within), "the vector filter decides each quarter as the filter");
+  return known & within;
+}
 
 unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within) {
   kind_ = kind;

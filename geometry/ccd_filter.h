@@ -28,6 +28,10 @@ class FilteredCcd {
   /// of the exact scaling range): never clears a quarter it cannot prove empty. `p` must
   /// outlive test().
   unsigned filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within = 0xF);
+  /// filter() for points whose quarters the vector filter has decided already
+  /// (LaneKernels::coplanar_quarters: `known`, its result over quarters holding `within`): the
+  /// same return and the same state for test(), without analysing the cubic's quarters again.
+  unsigned filter_known(CcdKind kind, const CcdPoints& p, unsigned within, unsigned known);
   /// After filter() returned non-zero: the elementary test of the same points. Whenever their
   /// swept boxes meet (stage (a) passes), the same answer, time of impact and counts as
   /// vertex_face_ccd / edge_edge_ccd on them; otherwise it still never misses a contact.
