@@ -35,7 +35,12 @@ class FilteredCcd {
   /// After filter() returned non-zero: the elementary test of the same points. Whenever their
   /// swept boxes meet (stage (a) passes), the same answer, time of impact and counts as
   /// vertex_face_ccd / edge_edge_ccd on them; otherwise it still never misses a contact.
-  bool test(double& toi, CcdCounters* counters);
+  /// `hint`: what root_estimate returns for the cubic over [0, 1], computed ahead for the
+  /// queries whose root_wanted() was true (root_estimates, several at once); nullptr otherwise.
+  bool test(double& toi, CcdCounters* counters, const RootHint* hint = nullptr);
+  /// After filter() returned non-zero: whether test() starts by estimating the root of the
+  /// coplanarity cubic over the whole step (the fast path's common case); then `f` is the cubic.
+  bool root_wanted(Bern<3, double>& f) const;
 
  private:
   Setup<double> S_;
