@@ -14,6 +14,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -179,22 +180,24 @@ class FeatureTests {
       const QueuedPair* w = q.data() + first;
       std::fill(filtered, filtered + n, kUndecided);
       if (prefilter) {
-        // each kind's pairs together, their ids and quarters gathered in order
+        // each kind's pairs together, their ids and quarters gathered in one pass: the
+        // vertex-face pairs from the front of the arrays, the edge-edge pairs from the back (the
+        // filter decides each pair on its own, in any order)
         std::uint32_t ids[kWindow][4];
         std::uint8_t within[kWindow], r[kWindow];
         std::uint16_t where[kWindow];
-        for (std::uint8_t kind : {std::uint8_t(0), std::uint8_t(1)}) {
-          std::size_t m = 0;
-          for (std::size_t i = 0; i < n; ++i)
-            if (w[i].kind == kind) {
-              std::copy(w[i].ids, w[i].ids + 4, ids[m]);
-              within[m] = w[i].quarters & 0xFu;
-              where[m++] = static_cast<std::uint16_t>(i);
-            }
-          if (!m) continue;
-          lane_kernels().coplanar_quarters(kind == 0, x0_.data(), x1_.data(), ids, within, m, r);
-          for (std::size_t j = 0; j < m; ++j) filtered[where[j]] = r[j];
+        std::size_t nvf = 0, back = kWindow;
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::size_t j = w[i].kind == 0 ? nvf++ : --back;
+          std::memcpy(ids[j], w[i].ids, sizeof(ids[j]));
+          within[j] = w[i].quarters & 0xFu;
+          where[j] = static_cast<std::uint16_t>(i);
         }
+        const std::size_t nee = kWindow - back;
+        if (nvf) lane_kernels().coplanar_quarters(true, x0_.data(), x1_.data(), ids, within, nvf, r);
+        if (nee) lane_kernels().coplanar_quarters(false, x0_.data(), x1_.data(), ids + back, within + back, nee, r + back);
+        for (std::size_t j = 0; j < nvf; ++j) filtered[where[j]] = r[j];
+        for (std::size_t j = back; j < kWindow; ++j) filtered[where[j]] = r[j];
       }
       for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
         const QueuedPair& p = w[i];
