@@ -41,10 +41,9 @@ struct ConservativeCcd {
   unsigned filter_known(Query& q, CcdKind kind, const CcdPoints& p, unsigned within, unsigned known) const {
     return q.filter_known(kind, p, within, known);
   }
-  /// The elementary test, after filter() returned non-zero for the same query; `hint`: its
-  /// root estimate computed ahead (FilteredCcd::root_wanted), or nullptr.
-  bool test(Query& q, CcdKind kind, double& toi, StepStats& s, const RootHint* hint = nullptr) const {
-    return q.test(toi, kind == CcdKind::VertexFace ? &s.vf_ccd : &s.ee_ccd, hint);
+  /// The elementary test, after filter() returned non-zero for the same query.
+  bool test(Query& q, CcdKind kind, double& toi, StepStats& s) const {
+    return q.test(toi, kind == CcdKind::VertexFace ? &s.vf_ccd : &s.ee_ccd);
   }
 };
 
@@ -167,12 +166,6 @@ class FeatureTests {
   void run_queued(WorkerOutput& out, const Found& found) const {
     std::vector<QueuedPair>& q = out.queued;
     const bool prefilter = prefilters();
-    // A full step's pairs past the filter wait in a batch whose root estimates are computed
-    // together (TestBatch); other queries test each pair at once, as narrow() does.
-    TestBatch batch_storage;
-    TestBatch* batch = nullptr;
-    if constexpr (std::is_same_v<NarrowPhase, ConservativeCcd>)
-      if (prefilter && query_.kind() == StepKind::Full) batch = &batch_storage;
     constexpr std::size_t kWindow = 2 * kQueue;
     std::uint8_t filtered[kWindow];  // the filter's result, or kUndecided
     for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
@@ -215,86 +208,17 @@ class FeatureTests {
             continue;
           }
         }
+        const std::size_t before = out.contacts.size();
         // The filter's own result for the quarters the vector filter was asked (those of the
         // queued pair, holding the pair's own): not computed twice.
         const bool known = filtered[i] != kUndecided && !(quarters & ~(p.quarters & 0xFu));
-        if (batch) {
-          batch->add(*this, p, quarters, known ? filtered[i] : kUndecided, out, found);
-          continue;
-        }
-        const std::size_t before = out.contacts.size();
         narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
                vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out, known ? filtered[i] : kUndecided);
         if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
       }
     }
-    if (batch) batch->flush(*this, out, found);
     q.clear();
   }
-
-  /// The pairs of a full step that pass the filter in run_queued(), tested kRootBatch at a time
-  /// in their order: the fast path of each starts by estimating the root of its coplanarity
-  /// cubic, a chain of dependent iterations; root_estimates runs those of the batch side by
-  /// side. The same tests, counts, contacts and order as narrow() one pair at a time.
-  struct TestBatch {
-    struct Slot {
-      CcdPoints points;
-      FilteredCcd query;  ///< reads `points`: a slot is filled in place
-      RawContact pair;
-      std::uint32_t leaf_a, leaf_b;
-      bool vf;
-    };
-    Slot slots[kRootBatch];
-    int used = 0;
-
-    /// narrow() up to the test for queued pair `p` in `quarters` (`known`: the vector filter's
-    /// result, or kUndecided); the tests run when the batch is full.
-    template <class Found>
-    void add(const FeatureTests& t, const QueuedPair& p, unsigned quarters, unsigned known, WorkerOutput& out,
-             const Found& found) {
-      Slot& s = slots[used];
-      s.vf = p.kind == 0;
-      const CcdKind ccd = s.vf ? CcdKind::VertexFace : CcdKind::EdgeEdge;
-      t.load({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, s.points);
-      const unsigned kept = known != kUndecided ? t.narrow_.filter_known(s.query, ccd, s.points, quarters, known)
-                                                : t.narrow_.filter(s.query, ccd, s.points, quarters);
-      if (!kept) {
-        ++(s.vf ? out.stats.vf_filtered : out.stats.ee_filtered);
-        return;
-      }
-      const ContactKind kind = s.vf ? ContactKind::VertexFace : ContactKind::EdgeEdge;
-      s.pair = {RawContact::make_key(kind, p.a, p.b), 0.25 * std::countr_zero(kept), {p.ids[0], p.ids[1], p.ids[2], p.ids[3]}};
-      s.leaf_a = p.leaf_a, s.leaf_b = p.leaf_b;
-      if (++used == kRootBatch) flush(t, out, found);
-    }
-
-    /// The tests of the pairs waiting, in order.
-    template <class Found>
-    void flush(const FeatureTests& t, WorkerOutput& out, const Found& found) {
-      Bern<3, double> f[kRootBatch] = {};
-      int of[kRootBatch], m = 0;
-      for (int j = 0; j < used; ++j)
-        if (slots[j].query.root_wanted(f[m])) of[m++] = j;
-      double r[kRootBatch], slope[kRootBatch];
-      if (m) root_estimates(f, m, r, slope);
-      RootHint hints[kRootBatch];
-      const RootHint* hint[kRootBatch] = {};
-      for (int k = 0; k < m; ++k) {
-        hints[k] = {r[k], slope[k]};
-        hint[of[k]] = &hints[k];
-      }
-      for (int j = 0; j < used && !t.query_.stopped(); ++j) {
-        Slot& s = slots[j];
-        ++(s.vf ? out.stats.vf_tests : out.stats.ee_tests);
-        double toi = 0;
-        if (t.narrow_.test(s.query, s.vf ? CcdKind::VertexFace : CcdKind::EdgeEdge, toi, out.stats, hint[j])) {
-          t.hit(s.pair, toi, out);
-          found(s.leaf_a, s.leaf_b);
-        }
-      }
-      used = 0;
-    }
-  };
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.
   bool too_late(unsigned quarters) const {

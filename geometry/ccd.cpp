@@ -138,8 +138,7 @@ Prepared prepare(const CcdPoints& p, double d, Setup<double>& S, double& toi, Cc
 
 /// Stage (c) on a prepared query.
 template <CcdKind K>
-bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters, CcdPath path,
-            const RootHint* hint = nullptr) {
+bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCounters* counters, CcdPath path) {
   using Kind = KindOps<K>;
   if (counters) ++counters->root_tests;
   pairs_of<K>(S);
@@ -149,7 +148,7 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
     return true;
   }
   if (!(d > 0) && path == CcdPath::Fast) {
-    const Fast r = fast_decide<Kind>(S, toi, hint);
+    const Fast r = fast_decide<Kind>(S, toi);
     if (r == Fast::Hit) {
       if (counters) ++counters->fast_hits, ++counters->hits;
       return true;
@@ -252,13 +251,7 @@ unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distan
   return quarters_of(S_, within);
 }
 
-bool FilteredCcd::root_wanted(Bern<3, double>& f) const {
-  if (static_cast<Prepared>(state_) != Prepared::Continue || d_ > 0 || !takes_root_hint(S_)) return false;
-  f = S_.f;
-  return true;
-}
-
-bool FilteredCcd::test(double& toi, CcdCounters* counters, const RootHint* hint) {
+bool FilteredCcd::test(double& toi, CcdCounters* counters) {
   switch (static_cast<Prepared>(state_)) {
     case Prepared::Miss: return false;  // not reached after a filter that returned non-zero
     case Prepared::Hit:
@@ -274,8 +267,8 @@ bool FilteredCcd::test(double& toi, CcdCounters* counters, const RootHint* hint)
   }
   if (counters) ++counters->queries;
   return kind_ == CcdKind::VertexFace
-             ? finish<CcdKind::VertexFace>(*points_, d_, S_, toi, counters, CcdPath::Fast, hint)
-             : finish<CcdKind::EdgeEdge>(*points_, d_, S_, toi, counters, CcdPath::Fast, hint);
+             ? finish<CcdKind::VertexFace>(*points_, d_, S_, toi, counters, CcdPath::Fast)
+             : finish<CcdKind::EdgeEdge>(*points_, d_, S_, toi, counters, CcdPath::Fast);
 }
 
 bool ccd_box_overlap(CcdKind kind, const CcdPoints& p, double min_distance) {

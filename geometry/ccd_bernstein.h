@@ -15,9 +15,6 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace mccd::detail {
 
@@ -226,93 +223,6 @@ inline T root_estimate(const Bern<3, T>& p, std::type_identity_t<T> x, std::type
   }
   slope = d / (y - x);
   return x + s * (y - x);
-}
-
-inline constexpr int kRootBatch = 8;
-/// One query's estimate computed ahead: what root_estimate(f, 0, 1, slope) returns for its
-/// coplanarity cubic f (the fast path's first step, geometry/ccd_fast.h).
-struct RootHint {
-  double r, slope;
-};
-
-/// root_estimate(p[i], 0, 1, slope[i]) for i < n (n <= kRootBatch) at once, two lanes to an
-/// SSE2 register, each lane doing the scalar function's operations in its order (the library
-/// is compiled without fused operations), its branches chosen by masks: r[i] and slope[i] are
-/// bit for bit what it returns. The iterations run side by side instead of waiting one after
-/// another; a lane that stops keeps its values while the others go on.
-inline void root_estimates(const Bern<3, double>* p, int n, double* r, double* slope) {
-  if (n <= 0) return;
-#if defined(__SSE2__)
-  double c0[kRootBatch], c1[kRootBatch], c2[kRootBatch], c3[kRootBatch];
-  double s[kRootBatch], sl[kRootBatch], sr[kRootBatch], d[kRootBatch];
-  bool neg0[kRootBatch], active[kRootBatch];
-  for (int i = 0; i < kRootBatch; ++i) {
-    // spare lanes repeat lane 0 (never read back)
-    const Bern<3, double>& q = p[i < n ? i : 0];
-    c0[i] = q.c[0], c1[i] = q.c[1], c2[i] = q.c[2], c3[i] = q.c[3];
-    neg0[i] = q.c[0] < 0;
-    sl[i] = 0, sr[i] = 1, d[i] = 0, s[i] = 0.5;
-    active[i] = i < n;
-    for (int k = 0; k < 3; ++k)
-      if ((q.c[k + 1] < 0) != neg0[i]) {
-        const double x = (k + q.c[k] / (q.c[k] - q.c[k + 1])) / 3;
-        if (x > 0 && x < 1) s[i] = x;
-        break;
-      }
-  }
-  // Two lanes a register; masks select what the scalar code's branches choose.
-  constexpr int G = kRootBatch / 2;
-  __m128d C0[G], C1[G], C2[G], C3[G], S[G], SL[G], SR[G], D[G], NEG[G], ACT[G];
-  auto mask = [](bool a, bool b) { return _mm_castsi128_pd(_mm_set_epi64x(b ? -1 : 0, a ? -1 : 0)); };
-  for (int g = 0; g < G; ++g) {
-    C0[g] = _mm_loadu_pd(c0 + 2 * g), C1[g] = _mm_loadu_pd(c1 + 2 * g), C2[g] = _mm_loadu_pd(c2 + 2 * g);
-    C3[g] = _mm_loadu_pd(c3 + 2 * g), S[g] = _mm_loadu_pd(s + 2 * g), SL[g] = _mm_loadu_pd(sl + 2 * g);
-    SR[g] = _mm_loadu_pd(sr + 2 * g), D[g] = _mm_loadu_pd(d + 2 * g);
-    NEG[g] = mask(neg0[2 * g], neg0[2 * g + 1]), ACT[g] = mask(active[2 * g], active[2 * g + 1]);
-  }
-  const __m128d zero = _mm_setzero_pd(), three = _mm_set1_pd(3.0), half = _mm_set1_pd(0.5);
-  const __m128d small_step = _mm_set1_pd(0x1p-40), small_width = _mm_set1_pd(0x1p-52);
-  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
-  auto pick = [](__m128d m, __m128d a, __m128d b) { return _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b)); };
-  for (int it = 0; it < 40; ++it) {
-    int any = 0;
-    for (int g = 0; g < G; ++g) {
-      if (!_mm_movemask_pd(ACT[g])) continue;
-      const __m128d si = S[g];
-      __m128d b0 = _mm_add_pd(C0[g], _mm_mul_pd(si, _mm_sub_pd(C1[g], C0[g])));
-      __m128d b1 = _mm_add_pd(C1[g], _mm_mul_pd(si, _mm_sub_pd(C2[g], C1[g])));
-      const __m128d b2 = _mm_add_pd(C2[g], _mm_mul_pd(si, _mm_sub_pd(C3[g], C2[g])));
-      b0 = _mm_add_pd(b0, _mm_mul_pd(si, _mm_sub_pd(b1, b0)));
-      b1 = _mm_add_pd(b1, _mm_mul_pd(si, _mm_sub_pd(b2, b1)));
-      const __m128d v = _mm_add_pd(b0, _mm_mul_pd(si, _mm_sub_pd(b1, b0)));
-      const __m128d dn = _mm_mul_pd(three, _mm_sub_pd(b1, b0));
-      const __m128d act = ACT[g];
-      const __m128d moving = _mm_andnot_pd(_mm_cmpeq_pd(v, zero), act);
-      const __m128d right = _mm_xor_pd(_mm_cmplt_pd(v, zero), NEG[g]);  // (v < 0) != neg0
-      const __m128d l = pick(_mm_andnot_pd(right, moving), si, SL[g]);
-      const __m128d h = pick(_mm_and_pd(right, moving), si, SR[g]);
-      const __m128d step = _mm_div_pd(v, dn);
-      const __m128d ns = _mm_sub_pd(si, step);
-      const __m128d converged = _mm_cmple_pd(_mm_and_pd(step, magnitude), small_step);
-      const __m128d clamped = pick(_mm_cmplt_pd(ns, l), l, pick(_mm_cmplt_pd(h, ns), h, ns));
-      const __m128d inside = _mm_and_pd(_mm_cmpgt_pd(ns, l), _mm_cmplt_pd(ns, h));
-      const __m128d next = pick(converged, clamped, pick(inside, ns, _mm_mul_pd(half, _mm_add_pd(l, h))));
-      D[g] = pick(act, dn, D[g]);
-      SL[g] = l, SR[g] = h;
-      S[g] = pick(moving, next, si);
-      ACT[g] = _mm_andnot_pd(_mm_or_pd(converged, _mm_cmple_pd(_mm_sub_pd(h, l), small_width)), moving);
-      any |= _mm_movemask_pd(ACT[g]);
-    }
-    if (!any) break;
-  }
-  for (int g = 0; g < G; ++g) _mm_storeu_pd(s + 2 * g, S[g]), _mm_storeu_pd(d + 2 * g, D[g]);
-  for (int i = 0; i < n; ++i) {
-    slope[i] = d[i] / (1.0 - 0.0);
-    r[i] = 0.0 + s[i] * (1.0 - 0.0);
-  }
-#else
-  for (int i = 0; i < n; ++i) r[i] = root_estimate(p[i], 0.0, 1.0, slope[i]);  // one at a time
-#endif
 }
 
 }  // namespace mccd::detail

@@ -42,7 +42,6 @@
 #include <bit>
 #include <cstdint>
 
-#include <mccd/geometry/assert.h>
 #include <mccd/geometry/ccd_search.h>
 
 namespace mccd::detail {
@@ -108,23 +107,11 @@ inline double pow2_at_least(double x) {
 
 // Steps 2-4 on one piece [x, y] holding exactly one root of f, with sign `left_neg` to its
 // left: Miss (no contact at that root), Hit (toi set) or Unknown.
-/// Whether the fast path starts with root_estimate(S.f, 0, 1) (fast_roots' first case), so
-/// that a RootHint can stand for it.
-inline bool takes_root_hint(const Setup<double>& S) {
-  return std::fabs(S.f.c[0]) > S.ef && std::fabs(S.f.c[3]) > S.ef && one_sign_change(S.f, S.ef);
-}
-
 template <class Kind>  // KindOps<K> of geometry/ccd_stages.h
 Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, double y, const double (&M)[4],
-               double& toi, const RootHint* hint = nullptr) {
+               double& toi) {
   double slope = 0;
-  const double r = hint ? (slope = hint->slope, hint->r) : root_estimate(p, x, y, slope);
-  MCCD_ASSERT(!hint || [&] {
-    double s2 = 0;
-    const double r2 = root_estimate(p, x, y, s2);
-    return std::bit_cast<std::uint64_t>(r2) == std::bit_cast<std::uint64_t>(r) &&
-           std::bit_cast<std::uint64_t>(s2) == std::bit_cast<std::uint64_t>(slope);
-  }(), "a root estimate computed ahead is the one the fast path computes");
+  const double r = root_estimate(p, x, y, slope);
   const bool left_neg = p.c[0] < 0;
   // Half-width so that |f| at a and b is about 4 times its error bound.
   const double hw = 4 * S.ef / std::fabs(slope);
@@ -171,13 +158,12 @@ Fast fast_root(const Setup<double>& S, const Bern<3, double>& p, double x, doubl
 // Step 1 and the loop over the roots: Miss, Hit (toi set) or Unknown. Parts of [0, 1] are
 // taken earliest first from a stack; a part with more sign changes is halved (split_half,
 // rigorous) while the budget lasts.
-/// `hint`: given only where takes_root_hint(S).
 template <class Kind>
-Fast fast_roots(const Setup<double>& S, double& toi, const RootHint* hint = nullptr) {
+Fast fast_roots(const Setup<double>& S, double& toi) {
   if (!(std::fabs(S.f.c[0]) > S.ef && std::fabs(S.f.c[3]) > S.ef)) return Fast::Unknown;
   double M[4];
   Kind::inside_magnitudes(S, M);
-  if (one_sign_change(S.f, S.ef)) return fast_root<Kind>(S, S.f, 0.0, 1.0, M, toi, hint);
+  if (one_sign_change(S.f, S.ef)) return fast_root<Kind>(S, S.f, 0.0, 1.0, M, toi);
   struct Part {
     Bern<3, double> p;
     double e, lo, hi;
@@ -220,8 +206,8 @@ Fast fast_roots(const Setup<double>& S, double& toi, const RootHint* hint = null
 // isolated (the cubic within its error bound at t = 0 or t = 1, as for primitives that move
 // in one plane), one try of the search's separation test over all of [0, 1].
 template <class Kind>
-Fast fast_decide(const Setup<double>& S, double& toi, const RootHint* hint = nullptr) {
-  const Fast r = fast_roots<Kind>(S, toi, hint);
+Fast fast_decide(const Setup<double>& S, double& toi) {
+  const Fast r = fast_roots<Kind>(S, toi);
   if (r == Fast::Unknown && separated(S, 0.0, 1.0)) return Fast::Miss;
   return r;
 }

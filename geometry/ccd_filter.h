@@ -35,12 +35,7 @@ class FilteredCcd {
   /// After filter() returned non-zero: the elementary test of the same points. Whenever their
   /// swept boxes meet (stage (a) passes), the same answer, time of impact and counts as
   /// vertex_face_ccd / edge_edge_ccd on them; otherwise it still never misses a contact.
-  /// `hint`: what root_estimate returns for the cubic over [0, 1], computed ahead for the
-  /// queries whose root_wanted() was true (root_estimates, several at once); nullptr otherwise.
-  bool test(double& toi, CcdCounters* counters, const RootHint* hint = nullptr);
-  /// After filter() returned non-zero: whether test() starts by estimating the root of the
-  /// coplanarity cubic over the whole step (the fast path's common case); then `f` is the cubic.
-  bool root_wanted(Bern<3, double>& f) const;
+  bool test(double& toi, CcdCounters* counters);
 
  private:
   Setup<double> S_;

@@ -8,14 +8,12 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
-#include <vector>
 
 #include <mccd/geometry/ccd.h>
 #include <mccd/geometry/ccd_detail.h>
@@ -254,50 +252,6 @@ TEST(CcdFastPath, IsolationHelpers) {
   EXPECT_EQ(l.c[0], g.c[0]);
   EXPECT_EQ(r.c[3], g.c[3]);
   EXPECT_EQ(l.c[3], r.c[0]);
-}
-
-// The batched root estimates are, lane by lane, bit for bit the scalar ones: on cubics with one
-// root, near-double roots, a root at an exact dyadic point (v == 0 mid-iteration), roots near
-// the ends, constant-sign and NaN coefficients, in batches of every size, each cubic in every
-// lane position.
-TEST(CcdFastPath, BatchedRootEstimatesAreTheScalarOnes) {
-  using B = detail::Bern<3, double>;
-  std::vector<B> cubics;
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-1, 1);
-  auto from_roots = [](double a, double b, double c, double k) {
-    // k (t - a)(t - b)(t - c) in Bernstein form over [0, 1]
-    const double p0 = -a * b * c, p1 = a * b + b * c + a * c, p2 = -(a + b + c);
-    return B{{k * p0, k * (p0 + p1 / 3), k * (p0 + 2 * p1 / 3 + p2 / 3), k * (p0 + p1 + p2 + 1)}};
-  };
-  for (int i = 0; i < 400; ++i) {
-    const double r = (u(rng) + 1) / 2, k = u(rng) < 0 ? -1 : 1;
-    cubics.push_back(from_roots(r, 1.5 + u(rng), -0.5 - u(rng), k));                   // one root
-    cubics.push_back(from_roots(r, r + 1e-9 * u(rng), 2 + u(rng), k * (1 + u(rng))));  // near double
-    cubics.push_back(B{{u(rng), u(rng), u(rng), u(rng)}});                               // anything
-    cubics.push_back(from_roots(1e-12 * (u(rng) + 1), 3, -2, k));                        // near t = 0
-    cubics.push_back(from_roots(1 - 1e-12 * (u(rng) + 1), 3, -2, k));                    // near t = 1
-  }
-  cubics.push_back(from_roots(0.5, 3, -2, 1));    // exactly 0 at the first iterate
-  cubics.push_back(from_roots(0.25, 3, -2, -1));  // a dyadic root
-  cubics.push_back(B{{1, 2, 3, 4}});              // no sign change
-  cubics.push_back(B{{-1, std::nan(""), 1, 2}});
-  cubics.push_back(B{{0, 0, 0, 0}});
-  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
-  std::size_t compared = 0;
-  for (int n = 1; n <= detail::kRootBatch; ++n)
-    for (std::size_t first = 0; first + n <= cubics.size(); first += (n == detail::kRootBatch ? 1 : 7)) {
-      double r[detail::kRootBatch], slope[detail::kRootBatch];
-      detail::root_estimates(cubics.data() + first, n, r, slope);
-      for (int i = 0; i < n; ++i) {
-        double s = 0;
-        const double want = detail::root_estimate(cubics[first + i], 0, 1, s);
-        ASSERT_EQ(bits(r[i]), bits(want)) << "cubic " << first + i << " in lane " << i << " of " << n;
-        ASSERT_EQ(bits(slope[i]), bits(s)) << "cubic " << first + i << " in lane " << i << " of " << n;
-        ++compared;
-      }
-    }
-  EXPECT_GT(compared, 20000u);
 }
 
 // Every family of contacts against the exact reference: no false negative, no late toi, no
