@@ -218,24 +218,7 @@ unsigned quarters_of(const Setup<double>& S, unsigned within) {
 
 }  // namespace
 
-unsigned FilteredCcd::filter_known(CcdKind kind, const CcdPoints& p, unsigned within, unsigned known) {
-  kind_ = kind;
-  points_ = &p;
-  d_ = 0;
-  const Prepared r = kind == CcdKind::VertexFace ? prepare<CcdKind::VertexFace>(p, 0.0, S_, toi_, nullptr, false)
-                                                 : prepare<CcdKind::EdgeEdge>(p, 0.0, S_, toi_, nullptr, false);
-  state_ = static_cast<int>(r);
-  switch (r) {
-    case Prepared::Miss: return 0;
-    case Prepared::Hit:
-    case Prepared::HitUnsafe: return within;
-    case Prepared::Continue: break;
-  }
-  MCCD_ASSERT(quarters_of(S_, within) == (known & within), "the vector filter decides each quarter as the filter");
-  return known & within;
-}
-
-unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within) {
+bool FilteredCcd::start(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within, unsigned& decided) {
   kind_ = kind;
   points_ = &p;
   d_ = min_distance > 0 ? min_distance : 0.0;
@@ -243,12 +226,29 @@ unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distan
                                                  : prepare<CcdKind::EdgeEdge>(p, d_, S_, toi_, nullptr, false);
   state_ = static_cast<int>(r);
   switch (r) {
-    case Prepared::Miss: return 0;
+    case Prepared::Miss:
+      decided = 0;
+      return false;
     case Prepared::Hit:
-    case Prepared::HitUnsafe: return within;  // not analysed: every quarter asked for
-    case Prepared::Continue: break;
+    case Prepared::HitUnsafe:
+      decided = within;  // not analysed: every quarter asked for
+      return false;
+    case Prepared::Continue:
+      break;
   }
-  return quarters_of(S_, within);
+  return true;
+}
+
+unsigned FilteredCcd::filter(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within) {
+  unsigned decided = 0;
+  return start(kind, p, min_distance, within, decided) ? quarters_of(S_, within) : decided;
+}
+
+unsigned FilteredCcd::filter_known(CcdKind kind, const CcdPoints& p, unsigned within, unsigned known) {
+  unsigned decided = 0;
+  if (!start(kind, p, 0.0, within, decided)) return decided;
+  MCCD_ASSERT(quarters_of(S_, within) == (known & within), "the vector filter decides each quarter as the filter");
+  return known & within;
 }
 
 bool FilteredCcd::test(double& toi, CcdCounters* counters) {

@@ -38,6 +38,10 @@ class FilteredCcd {
   bool test(double& toi, CcdCounters* counters);
 
  private:
+  /// Stages (a) and (b) of the points: true when the cubic's quarters are to be analysed;
+  /// otherwise `decided` is what filter() returns (0, or every quarter of `within`).
+  bool start(CcdKind kind, const CcdPoints& p, double min_distance, unsigned within, unsigned& decided);
+
   Setup<double> S_;
   const CcdPoints* points_ = nullptr;
   double d_ = 0, toi_ = 0;

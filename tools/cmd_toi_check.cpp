@@ -109,8 +109,8 @@ int toi_check(const ToiOptions& a) {
               to_string(method), threads);
 
   StepResult r = scene.step(seq.frames[0], seq.frames[1], method);
-  // Reported and true pairs as sorted keys (8 bytes a pair; hash sets took more memory than the
-  // scene's own arrays' last tenth).
+  // Reported and true pairs as sorted keys: 8 bytes a pair (hash sets of them held 13 MB at the
+  // end of the cloth-ball step).
   std::vector<std::uint64_t> got_vf, got_ee;
   for (const Contact& c : r.contacts) {
     if (c.kind == ContactKind::VertexFace)
