@@ -28,7 +28,10 @@
 //      contact when the cubic certainly changes sign and every g_i is certainly positive.
 //      Undecided pieces are halved; pieces still undecided at 2^-40 are handed to the same
 //      search in long double (64-bit mantissa, error bounds ~2^11 times smaller) down to
-//      2^-56; what stays undecided is reported as a contact at the start of that piece.
+//      2^-56, and what that leaves undecided to the same search in Quad (IEEE binary128,
+//      113 bits, software arithmetic, ~2^60 times smaller) down to 2^-100: an edge end or a
+//      vertex passing 1e-17 from the other primitive is told apart there. What stays
+//      undecided is reported as a contact at the start of that piece.
 //      Shortcuts (geometry/ccd_exact.h: exact predicates on the input doubles with
 //      floating-point expansions, behind floating-point filters):
 //       - touching exactly at t = 0 (exact coplanarity and inside tests at the start
@@ -58,8 +61,10 @@
 //         search ends with toi = a (the first contact lies in the window): the primitives
 //         that move in one plane reach their touch in a few pieces instead of bisecting down
 //         to 2^-20;
-//       - piece budgets: 200 pieces in double, 8 in long double per query; a query that
-//         exhausts them is reported as a contact at the start of the current piece.
+//       - piece budgets: 600 pieces in double, 8 in long double, 16 in Quad per query; a
+//         query that exhausts them is reported as a contact at the start of the current
+//         piece. Real steps decide nearly every pair in the fast path; the budgets bound the
+//         cost of near-degenerate pairs (a Quad piece costs about 6 us).
 //
 // Elementary CCD tests (vertex-face, edge-edge) under linear motion: the entry points and
 // stage (a). See geometry/ccd.h for the contract; the error analysis sits beside each stage
@@ -179,7 +184,8 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
   lp.root_d = &root;
   lp.ng_d = ng;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
-  if (counters) counters->pieces += (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.budget);
+  if (counters) counters->pieces +=
+      (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.wide.budget) + (kCcdPieceBudgetQuad - lp.quad.budget);
   if (r == Outcome::Miss) return false;
   toi = t;
   if (counters) ++counters->hits;

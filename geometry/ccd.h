@@ -31,7 +31,7 @@
 /// contact it lies within 2^-32 of the earliest root of the cubic in the certified piece,
 /// unless the cubic is numerically zero over a wider span (then the start of that span).
 /// For a reported undecided piece, and for a touch certified in one, it is the start of that
-/// piece, the first time the tests could not clear (at most 2^-40 or 2^-56 before a contact
+/// piece, the first time the tests could not clear (at most 2^-40, 2^-56 or 2^-100 before a contact
 /// in that piece, at most 2^-20 before the certified touch, earlier when the primitives stay
 /// within rounding distance of each other or a budget ran out). For a proved
 /// touch at t = 1 it is 1 - 2^-40 (1 - 2^-24, 1 - 2^-12) or the start of the first piece

@@ -1,6 +1,6 @@
 #pragma once
 /// @file Internal: the arithmetic of the elementary CCD tests. Small 3-vectors over a scalar T
-/// (double, or long double in the extended pass), polynomials in Bernstein form over a time
+/// (double; long double or Quad in the wider passes), polynomials in Bernstein form over a time
 /// piece, de Casteljau subdivision and restriction with rigorous forward error bounds.
 ///
 /// Notation: u = 2^-53 (unit roundoff). Every floating-point operation on doubles rounds to
@@ -20,9 +20,53 @@ namespace mccd::detail {
 
 constexpr double kU = 0x1p-53;
 constexpr double kTiny = 0x1p-800;
-// Unit roundoff of the scalar type T of stage (c) (double, or long double in the second pass).
+// Unit roundoff of the scalar type T of stage (c) (double; long double in the second pass;
+// Quad in the third).
 template <class T>
 constexpr T unit_roundoff() { return std::numeric_limits<T>::epsilon() / 2; }
+
+/// The scalar of stage (c)'s third pass: IEEE binary128 (113-bit significand, software
+/// arithmetic), for the few pieces the double and long-double passes leave undecided. The
+/// standard library has no functions for it in strict C++20: the few stage (c) needs are below,
+/// for every scalar type.
+using Quad = __float128;
+template <>
+constexpr Quad unit_roundoff<Quad>() { return Quad(0x1p-113); }
+
+template <class T>
+inline T fabs_(T x) {
+  if constexpr (std::is_same_v<T, Quad>)
+    return x < 0 ? -x : x;
+  else
+    return std::fabs(x);
+}
+// 2^e, exact for |e| <= 1000.
+template <class T>
+inline T pow2(int e) { return T(std::ldexp(1.0, e)); }
+// The largest integer <= x (Quad: for |x| < 2^112, where adding and taking 2^112 away rounds x
+// to an integer exactly; beyond it every Quad is an integer).
+template <class T>
+inline T floor_(T x) {
+  if constexpr (std::is_same_v<T, Quad>) {
+    const Quad big = pow2<Quad>(112);
+    if (!(fabs_(x) < big)) return x;
+    Quad y = x >= 0 ? (x + big) - big : (x - big) + big;
+    return y > x ? y - 1 : y;
+  } else {
+    return std::floor(x);
+  }
+}
+template <class T>
+inline bool finite_(T x) { return x - x == 0; }
+// At least sqrt(x) (Quad: through long double, rounded to nearest within 2^-64, then raised by
+// 2^-60); x finite and >= 0.
+template <class T>
+inline T sqrt_up(T x) {
+  if constexpr (std::is_same_v<T, Quad>)
+    return Quad(std::sqrt(static_cast<long double>(x))) * (Quad(1) + pow2<Quad>(-60));
+  else
+    return std::sqrt(x);
+}
 
 template <class T>
 struct V3 {
@@ -40,14 +84,14 @@ template <class T>
 inline T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 template <class T>
 inline T absdot(V3<T> a, V3<T> b) {
-  return std::fabs(a.x) * std::fabs(b.x) + std::fabs(a.y) * std::fabs(b.y) + std::fabs(a.z) * std::fabs(b.z);
+  return fabs_(a.x) * fabs_(b.x) + fabs_(a.y) * fabs_(b.y) + fabs_(a.z) * fabs_(b.z);
 }
 template <class T>
-inline T amax(V3<T> a) { return std::max(std::fabs(a.x), std::max(std::fabs(a.y), std::fabs(a.z))); }
+inline T amax(V3<T> a) { return std::max(fabs_(a.x), std::max(fabs_(a.y), fabs_(a.z))); }
 template <class T>
 inline V3<T> lerp(V3<T> a, V3<T> b, T t) { return a + (b - a) * t; }
 template <class T>
-inline V3<T> vabs(V3<T> a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+inline V3<T> vabs(V3<T> a) { return {fabs_(a.x), fabs_(a.y), fabs_(a.z)}; }
 // The magnitude expression of a cross product: the same products, all added.
 template <class T>
 inline V3<T> across(V3<T> a, V3<T> b) { return {a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z, a.x * b.y + a.y * b.x}; }
@@ -61,7 +105,7 @@ struct Bern {
 template <int N, class T>
 inline T maxabs(const Bern<N, T>& p) {
   T m = 0;
-  for (int k = 0; k <= N; ++k) m = std::max(m, std::fabs(p.c[k]));
+  for (int k = 0; k <= N; ++k) m = std::max(m, fabs_(p.c[k]));
   return m;
 }
 
@@ -214,12 +258,12 @@ inline T root_estimate(const Bern<3, T>& p, std::type_identity_t<T> x, std::type
     const T ns = s - step;
     // A step this small is converged (the next one would be about step^2 times a modest
     // factor); near the root it may not even move s, so test it before the bracket.
-    if (std::fabs(step) <= 0x1p-40) {
+    if (fabs_(step) <= (std::is_same_v<T, Quad> ? T(0x1p-90) : T(0x1p-40))) {
       s = std::clamp(ns, sl, sr);
       break;
     }
     s = ns > sl && ns < sr ? ns : 0.5 * (sl + sr);
-    if (sr - sl <= 0x1p-52) break;
+    if (sr - sl <= (std::is_same_v<T, Quad> ? T(0x1p-105) : T(0x1p-52))) break;
   }
   slope = d / (y - x);
   return x + s * (y - x);

@@ -44,7 +44,7 @@ Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi)
     T ef, lo, hi;
     int depth;
   };
-  Item st[kCcdMaxDepthLong + 4];
+  Item st[kCcdMaxDepthQuad + 4];
   int top = 0;
   st[top++] = {P.f, P.ef, P.lo, P.hi, P.depth};
   while (top > 0) {
@@ -83,9 +83,9 @@ template <class T>
 bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_depth, Piece<T>& W) {
   const T c0 = P.f.c[0], c3 = P.f.c[3];
   if (!((c0 > P.ef && c3 < -P.ef) || (c0 < -P.ef && c3 > P.ef))) return false;
-  const T h = std::ldexp(T(1), -max_depth);
+  const T h = pow2<T>(-max_depth);
   const T width = P.hi - P.lo;
-  if (width <= std::ldexp(T(1), 6 - max_depth)) return false;
+  if (width <= pow2<T>(6 - max_depth)) return false;
   T slope;
   const T ts = root_estimate(P.f, P.lo, P.hi, slope);
   // Window half-widths 8 h, 256 h, 8192 h: the uncertainty of the sign change may be wider
@@ -93,8 +93,8 @@ bool jump_to_root(const Piece<T>& R, const Piece<T>& P, int ng, T dN, int max_de
   T a = 0, b = 0;
   int k = 3;
   for (; k <= 13; k += 5) {
-    const T m = std::ldexp(T(1), k);
-    a = std::max(P.lo, std::floor(ts / h - m) * h);
+    const T m = pow2<T>(k);
+    a = std::max(P.lo, floor_(ts / h - m) * h);
     b = std::min(P.hi, a + 2 * m * h);
     if (!(a > P.lo || b < P.hi) || !(a < b)) return false;
     Bern<3, T> side;
@@ -152,7 +152,7 @@ inline void count_touch(LongPass* lp);
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
                T& toi, LongPass* long_pass) {
-  Piece<T> stack[kCcdMaxDepthLong + 4];
+  Piece<T> stack[(std::is_same_v<T, Quad> ? kCcdMaxDepthQuad : kCcdMaxDepthLong) + 4];
   int top = 0;
   stack[top++] = start;
   const bool use_inside = !(S.d > 0);
@@ -267,22 +267,53 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
 }
 
 // Largest double <= x.
-inline double round_down(long double x) {
+template <class T>
+inline double round_down(T x) {
   double r = static_cast<double>(x);
-  if (static_cast<long double>(r) > x) r = std::nextafter(r, -HUGE_VAL);
+  if (static_cast<T>(r) > x) r = std::nextafter(r, -HUGE_VAL);
   return r;
 }
 
-// The extended-precision pass (where long double is wider than double): the same search,
-// with error bounds about 2^11 times smaller, on the pieces the double search left
-// undecided at its maximum depth. Its setup is built on first use.
+// A pass in a wider scalar T (long double, where it is wider than double, with error bounds
+// about 2^11 times smaller; then Quad) over the pieces the double search left undecided at its
+// maximum depth: the same search, on the query's setup in T (from the double one's scaled
+// points, exactly), built on first use.
+template <class T>
+struct WidePass {
+  bool ready = false;
+  Setup<T> S;
+  Piece<T> root;
+  int ng = 0;
+  int budget;
+  explicit WidePass(int b) : budget(b) {}
+  void prepare(const Setup<double>& D) {
+    if (ready) return;
+    S.kind = D.kind;
+    S.d = D.d;
+    for (int i = 0; i < 4; ++i) {
+      S.s[i] = {D.s[i].x, D.s[i].y, D.s[i].z};
+      S.e[i] = {D.e[i].x, D.e[i].y, D.e[i].z};
+    }
+    coplanarity(S);
+    root.f = S.f;
+    ng = setup_inside(S, root);
+    ready = true;
+  }
+  // The search of [lo, hi] in T, down to `max_depth`.
+  Outcome run(double lo, double hi, int depth, int max_depth, T& toi) {
+    Piece<T> P;
+    P.lo = lo, P.hi = hi, P.depth = depth;
+    P.ef = restrict_to(root.f, root.ef, P.lo, P.hi, P.f);
+    for (int i = 0; i < ng; ++i) P.eg[i] = restrict_to(root.g[i], root.eg[i], P.lo, P.hi, P.g[i]);
+    return search(S, root, P, ng, max_depth, budget, toi, static_cast<LongPass*>(nullptr));
+  }
+};
+
 struct LongPass {
   const Setup<double>* S = nullptr;
-  bool ready = false;
-  Setup<long double> L;
-  Piece<long double> root;
-  int ng = 0;
-  int budget = kCcdPieceBudgetLong;
+  WidePass<long double> wide{kCcdPieceBudgetLong};
+  // The third pass, in Quad, on the pieces the long-double one leaves undecided.
+  WidePass<Quad> quad{kCcdPieceBudgetQuad};
   CcdCounters* counters = nullptr;
   // Exact touch at t = 1 (the input doubles): -1 not yet checked, 0 not proved, 1 proved.
   const CcdPoints* points = nullptr;
@@ -305,32 +336,32 @@ inline bool touches_at_end(LongPass& lp) {
 }
 
 inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi) {
+  if (lp.counters) ++lp.counters->fallbacks;
+  // Each pass that leaves the piece undecided stops at a start before which it cleared
+  // everything in the piece: a time never later than the first contact.
+  double undecided = lo;
   if constexpr (std::numeric_limits<long double>::digits > std::numeric_limits<double>::digits) {
-    if (lp.counters) ++lp.counters->fallbacks;
-    if (!lp.ready) {
-      lp.L.kind = lp.S->kind;
-      lp.L.d = lp.S->d;
-      for (int i = 0; i < 4; ++i) {
-        lp.L.s[i] = {lp.S->s[i].x, lp.S->s[i].y, lp.S->s[i].z};
-        lp.L.e[i] = {lp.S->e[i].x, lp.S->e[i].y, lp.S->e[i].z};
-      }
-      coplanarity(lp.L);
-      lp.root.f = lp.L.f;
-      lp.ng = setup_inside(lp.L, lp.root);
-      lp.ready = true;
-    }
-    Piece<long double> P;
-    P.lo = lo, P.hi = hi, P.depth = depth;
-    P.ef = restrict_to(lp.root.f, lp.root.ef, P.lo, P.hi, P.f);
-    for (int i = 0; i < lp.ng; ++i) P.eg[i] = restrict_to(lp.root.g[i], lp.root.eg[i], P.lo, P.hi, P.g[i]);
+    lp.wide.prepare(*lp.S);
     long double t = 0;
-    const Outcome r = search(lp.L, lp.root, P, lp.ng, kCcdMaxDepthLong, lp.budget, t, static_cast<LongPass*>(nullptr));
-    if (r != Outcome::Miss) toi = round_down(t);
-    return r;
-  } else {
-    toi = lo;
-    return Outcome::Undecided;
+    const Outcome r = lp.wide.run(lo, hi, depth, kCcdMaxDepthLong, t);
+    if (r == Outcome::Miss) return r;
+    toi = round_down(t);
+    if (r == Outcome::Hit) return r;
+    undecided = toi;
   }
+  // Still undecided: the whole piece again in Quad, whose error bounds are about 2^60 times
+  // smaller than double's (a point passing 1e-17 from a segment's line is told apart).
+  if (lp.quad.budget > 0) {
+    lp.quad.prepare(*lp.S);
+    Quad t = 0;
+    const Outcome r = lp.quad.run(lo, hi, depth, kCcdMaxDepthQuad, t);
+    if (r == Outcome::Miss) return r;
+    toi = round_down(t);
+    if (r == Outcome::Hit) return r;
+    undecided = std::max(undecided, toi);
+  }
+  toi = undecided;
+  return Outcome::Undecided;
 }
 
 }  // namespace mccd::detail

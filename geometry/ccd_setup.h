@@ -145,14 +145,14 @@ bool separated_along(const Setup<T>& S, V3<T> w, T lo, T hi) {
   using V = V3<T>;
   constexpr T u = unit_roundoff<T>();
   const T ww = dot(w, w);
-  if (!(ww > 0) || !std::isfinite(ww)) return false;
-  const T margin = S.d > 0 ? S.d * std::sqrt(ww) * (1 + 8 * u) : T(0);
+  if (!(ww > 0) || !finite_(ww)) return false;
+  const T margin = S.d > 0 ? S.d * sqrt_up(ww) * (1 + 8 * u) : T(0);
   bool pos = true, neg = true;
   for (int k = 0; k < S.npairs; ++k) {
     const V D0 = S.D0[k], D1 = S.D1[k];
     const T h0 = dot(w, D0), h1 = dot(w, D1);
     const T e0 = 6 * u * absdot(w, D0) + T(kTiny), e1 = 6 * u * absdot(w, D1) + T(kTiny);
-    const T slack = 4 * u * (std::fabs(h0) + std::fabs(h1) + e0 + e1) + T(kTiny) + margin;
+    const T slack = 4 * u * (fabs_(h0) + fabs_(h1) + e0 + e1) + T(kTiny) + margin;
     if (pos) {
       const T l0 = h0 - e0, l1 = h1 - e1;
       pos = l0 + lo * (l1 - l0) > slack && l0 + hi * (l1 - l0) > slack;

@@ -35,7 +35,7 @@ bool is_vf(const fs::path& p) { return p.string().find("vertex-face") != std::st
 
 }  // namespace
 
-TEST(CcdSampleQueries, NoFalseNegativesFewFalsePositivesExactReferenceAgrees) {
+TEST(CcdSampleQueries, NoFalseNegativesNoFalsePositivesExactReferenceAgrees) {
   const fs::path dir = test::data_dir() / "sample-queries";
   MCCD_REQUIRE_DATA(dir);
   Tally vf, ee;
@@ -77,7 +77,9 @@ TEST(CcdSampleQueries, NoFalseNegativesFewFalsePositivesExactReferenceAgrees) {
   EXPECT_EQ(vf.fn + ee.fn, 0);
   EXPECT_EQ(vf.ref_disagree + ee.ref_disagree, 0);
   EXPECT_EQ(vf.late_toi + ee.late_toi, 0);
-  EXPECT_LE(vf.fp + ee.fp, 40) << "VF " << vf.fp << ", EE " << ee.fp;
+  // Every answer exact on this set: the last three edge-edge near misses (an end passing 1e-17
+  // from the other edge's line) are told apart only by the Quad pass.
+  EXPECT_EQ(vf.fp + ee.fp, 0) << "VF " << vf.fp << ", EE " << ee.fp;
   std::cout << "[ sample  ] false positives: VF " << vf.fp << ", EE " << ee.fp << "\n";
 }
 

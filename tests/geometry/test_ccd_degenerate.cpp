@@ -118,6 +118,10 @@ TEST(CcdDegenerate, VertexFace) {
   std::cout << "[ degen VF] " << c.cases << " cases, " << c.positives << " positive, " << c.fp
             << " false positives\n";
   EXPECT_EQ(c.fn, 0);
+  // Near misses closer than the long-double pass resolves: what the Quad pass's budget of
+  // pieces leaves undecided (39 with a budget of 64, 113 with 16 or 32: most of these families
+  // need 33 to 64 of its pieces).
+  EXPECT_LE(c.fp, 113);
   EXPECT_EQ(c.late, 0);
   EXPECT_GE(c.cases, 500);
 }
@@ -163,6 +167,7 @@ TEST(CcdDegenerate, EdgeEdge) {
   std::cout << "[ degen EE] " << c.cases << " cases, " << c.positives << " positive, " << c.fp
             << " false positives\n";
   EXPECT_EQ(c.fn, 0);
+  EXPECT_LE(c.fp, 106);  // 34 with a Quad budget of 64
   EXPECT_EQ(c.late, 0);
   EXPECT_GE(c.cases, 500);
 }

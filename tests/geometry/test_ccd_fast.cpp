@@ -257,6 +257,39 @@ TEST(CcdFastPath, IsolationHelpers) {
 // Every family of contacts against the exact reference: no false negative, no late toi, no
 // wrong fast decision, a certified toi within 2^-32; the fast path decides most of them
 // and never adds a false positive to the search's.
+// The few functions the Quad pass needs (the standard library has none for Quad in strict C++),
+// checked in exact rationals.
+TEST(CcdQuadPass, ScalarHelpers) {
+  using detail::Quad;
+  auto exact = [](Quad x) -> Q {  // a Quad as a rational: three doubles hold its 113 bits
+    const double hi = static_cast<double>(x);
+    const double mid = static_cast<double>(x - Quad(hi));
+    const double lo = static_cast<double>(x - Quad(hi) - Quad(mid));
+    EXPECT_TRUE(Quad(hi) + Quad(mid) + Quad(lo) == x);
+    return Q(hi) + Q(mid) + Q(lo);
+  };
+  EXPECT_TRUE(detail::pow2<Quad>(-100) * detail::pow2<Quad>(100) == Quad(1));
+  EXPECT_EQ(exact(detail::pow2<Quad>(-70)), Q(Q(1) / (Q(1) << 70)));
+  const Quad big = detail::pow2<Quad>(100);
+  const std::pair<Quad, Quad> floors[] = {
+      {Quad(2.5), Quad(2)},           {Quad(-2.5), Quad(-3)},      {Quad(-3), Quad(-3)},
+      {Quad(0.25), Quad(0)},          {Quad(-0.25), Quad(-1)},     {big + Quad(0.5), big},
+      {-big - Quad(0.5), -big - 1},   {detail::pow2<Quad>(112) * 3, detail::pow2<Quad>(112) * 3}};
+  for (const auto& [x, f] : floors) EXPECT_TRUE(detail::floor_(x) == f) << static_cast<double>(x);
+  EXPECT_TRUE(detail::fabs_(Quad(-0.75)) == Quad(0.75));
+  EXPECT_TRUE(detail::finite_(Quad(1e300) * Quad(1e300)));
+  EXPECT_FALSE(detail::finite_(Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) *
+                               Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) *
+                               Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300) * Quad(1e300)));
+  EXPECT_EQ(detail::unit_roundoff<Quad>(), Quad(std::ldexp(1.0, -113)));
+  // sqrt_up: never below the square root, and within 2^-55 of it.
+  for (const double v : {2.0, 3.0, 0.1, 12345.678, 0x1p-200, 0x1p200}) {
+    const Q s = exact(detail::sqrt_up(Quad(v)));
+    EXPECT_GE(s * s, Q(v)) << v;
+    EXPECT_LE(s * s, Q(v) * (1 + Q(1, 1) / (Q(1) << 55))) << v;
+  }
+}
+
 TEST(CcdFastPath, ContactFamiliesAgainstExactReference) {
   const int n = std::getenv("MCCD_RANDOM_QUERIES") ? std::atoi(std::getenv("MCCD_RANDOM_QUERIES")) / 5 : 12000;
   Tally fam[4];
