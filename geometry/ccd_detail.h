@@ -27,7 +27,7 @@ bool ccd_run(CcdKind kind, const CcdPoints& p, double& toi, const CcdOptions& op
 inline constexpr int kCcdMaxDepth = 40;          ///< double pass: pieces down to 2^-40
 inline constexpr int kCcdPieceBudget = 600;      ///< double pass: at most this many pieces
 inline constexpr int kCcdMaxDepthLong = 56;      ///< long double pass: pieces down to 2^-56
-inline constexpr int kCcdPieceBudgetLong = 8;   ///< long double pass: at most this many pieces (per query)
+inline constexpr int kCcdPieceBudgetLong = 64;   ///< long double pass: at most this many pieces (per query)
 inline constexpr int kCcdMaxDepthQuad = 100;     ///< quad pass: pieces down to 2^-100
 inline constexpr int kCcdPieceBudgetQuad = 16;   ///< quad pass: at most this many pieces (per query)
 inline constexpr int kCcdToiDepth = 32;          ///< certified contacts: toi refined to 2^-32

@@ -118,10 +118,10 @@ TEST(CcdDegenerate, VertexFace) {
   std::cout << "[ degen VF] " << c.cases << " cases, " << c.positives << " positive, " << c.fp
             << " false positives\n";
   EXPECT_EQ(c.fn, 0);
-  // Near misses closer than the long-double pass resolves: what the Quad pass's budget of
-  // pieces leaves undecided (39 with a budget of 64, 113 with 16 or 32: most of these families
-  // need 33 to 64 of its pieces).
-  EXPECT_LE(c.fp, 113);
+  // Near misses (2^-52 from contact) the double pass cannot clear within its budget: the
+  // long-double and Quad passes decide most (113 with long double's budget at 8 pieces, 71
+  // with 64 and no Quad pass).
+  EXPECT_LE(c.fp, 39);
   EXPECT_EQ(c.late, 0);
   EXPECT_GE(c.cases, 500);
 }
@@ -167,7 +167,7 @@ TEST(CcdDegenerate, EdgeEdge) {
   std::cout << "[ degen EE] " << c.cases << " cases, " << c.positives << " positive, " << c.fp
             << " false positives\n";
   EXPECT_EQ(c.fn, 0);
-  EXPECT_LE(c.fp, 106);  // 34 with a Quad budget of 64
+  EXPECT_LE(c.fp, 34);  // 106 with long double's budget at 8 pieces, 66 without the Quad pass
   EXPECT_EQ(c.late, 0);
   EXPECT_GE(c.cases, 500);
 }
