@@ -25,17 +25,30 @@ constexpr double kTiny = 0x1p-800;
 template <class T>
 constexpr T unit_roundoff() { return std::numeric_limits<T>::epsilon() / 2; }
 
-/// The scalar of stage (c)'s third pass: IEEE binary128 (113-bit significand, software
-/// arithmetic), for the few pieces the double and long-double passes leave undecided. The
-/// standard library has no functions for it in strict C++20: the few stage (c) needs are below,
-/// for every scalar type.
+/// The scalar of stage (c)'s third pass, for the few pieces the double and long-double passes
+/// leave undecided: IEEE binary128 (113-bit significand) as GCC's and clang's __float128
+/// (software arithmetic) where they have it (x86-64); elsewhere long double (binary128 on
+/// AArch64 Linux; where it is narrower the third pass only repeats the second, within its
+/// exact depth). Strict C++20 has no functions for __float128: the few stage (c) needs are
+/// below, for every scalar type.
+#if defined(__SIZEOF_FLOAT128__)
 using Quad = __float128;
+inline constexpr bool kQuadIsFloat128 = true;
+inline constexpr int kQuadDigits = 113;
 template <>
 constexpr Quad unit_roundoff<Quad>() { return Quad(0x1p-113); }
+#else
+using Quad = long double;
+inline constexpr bool kQuadIsFloat128 = false;
+inline constexpr int kQuadDigits = std::numeric_limits<long double>::digits;
+#endif
+/// The scalar types whose functions are written here.
+template <class T>
+inline constexpr bool kSoftQuad = kQuadIsFloat128 && std::is_same_v<T, Quad>;
 
 template <class T>
 inline T fabs_(T x) {
-  if constexpr (std::is_same_v<T, Quad>)
+  if constexpr (kSoftQuad<T>)
     return x < 0 ? -x : x;
   else
     return std::fabs(x);
@@ -43,14 +56,14 @@ inline T fabs_(T x) {
 // 2^e, exact for |e| <= 1000.
 template <class T>
 inline T pow2(int e) { return T(std::ldexp(1.0, e)); }
-// The largest integer <= x (Quad: for |x| < 2^112, where adding and taking 2^112 away rounds x
-// to an integer exactly; beyond it every Quad is an integer).
+// The largest integer <= x (__float128: for |x| < 2^112, where adding and taking 2^112 away
+// rounds x to an integer exactly; beyond it every value is an integer).
 template <class T>
 inline T floor_(T x) {
-  if constexpr (std::is_same_v<T, Quad>) {
-    const Quad big = pow2<Quad>(112);
+  if constexpr (kSoftQuad<T>) {
+    const T big = pow2<T>(112);
     if (!(fabs_(x) < big)) return x;
-    Quad y = x >= 0 ? (x + big) - big : (x - big) + big;
+    T y = x >= 0 ? (x + big) - big : (x - big) + big;
     return y > x ? y - 1 : y;
   } else {
     return std::floor(x);
@@ -58,14 +71,16 @@ inline T floor_(T x) {
 }
 template <class T>
 inline bool finite_(T x) { return x - x == 0; }
-// At least sqrt(x) (Quad: through long double, rounded to nearest within 2^-64, then raised by
-// 2^-60); x finite and >= 0.
+// At least sqrt(x) (__float128: through long double, rounded to nearest within 2^-64 on
+// x86-64, then raised by 2^-60); x finite and >= 0.
 template <class T>
 inline T sqrt_up(T x) {
-  if constexpr (std::is_same_v<T, Quad>)
-    return Quad(std::sqrt(static_cast<long double>(x))) * (Quad(1) + pow2<Quad>(-60));
-  else
+  if constexpr (kSoftQuad<T>) {
+    static_assert(std::numeric_limits<long double>::digits >= 64);
+    return T(std::sqrt(static_cast<long double>(x))) * (T(1) + pow2<T>(-60));
+  } else {
     return std::sqrt(x);
+  }
 }
 
 template <class T>
@@ -258,12 +273,12 @@ inline T root_estimate(const Bern<3, T>& p, std::type_identity_t<T> x, std::type
     const T ns = s - step;
     // A step this small is converged (the next one would be about step^2 times a modest
     // factor); near the root it may not even move s, so test it before the bracket.
-    if (fabs_(step) <= (std::is_same_v<T, Quad> ? T(0x1p-90) : T(0x1p-40))) {
+    if (fabs_(step) <= (kSoftQuad<T> ? T(0x1p-90) : T(0x1p-40))) {
       s = std::clamp(ns, sl, sr);
       break;
     }
     s = ns > sl && ns < sr ? ns : 0.5 * (sl + sr);
-    if (sr - sl <= (std::is_same_v<T, Quad> ? T(0x1p-105) : T(0x1p-52))) break;
+    if (sr - sl <= (kSoftQuad<T> ? T(0x1p-105) : T(0x1p-52))) break;
   }
   slope = d / (y - x);
   return x + s * (y - x);

@@ -28,7 +28,7 @@ inline constexpr int kCcdMaxDepth = 40;          ///< double pass: pieces down t
 inline constexpr int kCcdPieceBudget = 600;      ///< double pass: at most this many pieces
 inline constexpr int kCcdMaxDepthLong = 56;      ///< long double pass: pieces down to 2^-56
 inline constexpr int kCcdPieceBudgetLong = 64;   ///< long double pass: at most this many pieces (per query)
-inline constexpr int kCcdMaxDepthQuad = 100;     ///< quad pass: pieces down to 2^-100
+inline constexpr int kCcdMaxDepthQuad = 100;     ///< quad pass: pieces down to 2^-100 (binary128)
 inline constexpr int kCcdPieceBudgetQuad = 16;   ///< quad pass: at most this many pieces (per query)
 inline constexpr int kCcdToiDepth = 32;          ///< certified contacts: toi refined to 2^-32
 inline constexpr int kCcdCertDepth = 16;         ///< undecided from here: a proved touch at t = 1 ends the search

@@ -354,7 +354,9 @@ inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, doubl
   if (lp.quad.budget > 0) {
     lp.quad.prepare(*lp.S);
     Quad t = 0;
-    const Outcome r = lp.quad.run(lo, hi, depth, kCcdMaxDepthQuad, t);
+    // (pieces exact in Quad: 2^-100 in binary128, less where Quad is a narrower long double)
+    constexpr int max_depth = std::min(kCcdMaxDepthQuad, kQuadDigits - 8);
+    const Outcome r = lp.quad.run(lo, hi, depth, max_depth, t);
     if (r == Outcome::Miss) return r;
     toi = round_down(t);
     if (r == Outcome::Hit) return r;
