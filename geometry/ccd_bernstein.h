@@ -31,20 +31,20 @@ constexpr T unit_roundoff() { return std::numeric_limits<T>::epsilon() / 2; }
 /// AArch64 Linux; where it is narrower the third pass only repeats the second, within its
 /// exact depth). Strict C++20 has no functions for __float128: the few stage (c) needs are
 /// below, for every scalar type.
+/// kSoftQuad<T>: whether T is __float128, whose functions are written here.
 #if defined(__SIZEOF_FLOAT128__)
 using Quad = __float128;
-inline constexpr bool kQuadIsFloat128 = true;
 inline constexpr int kQuadDigits = 113;
+template <class T>
+inline constexpr bool kSoftQuad = std::is_same_v<T, Quad>;
 template <>
 constexpr Quad unit_roundoff<Quad>() { return Quad(0x1p-113); }
 #else
 using Quad = long double;
-inline constexpr bool kQuadIsFloat128 = false;
 inline constexpr int kQuadDigits = std::numeric_limits<long double>::digits;
-#endif
-/// The scalar types whose functions are written here.
 template <class T>
-inline constexpr bool kSoftQuad = kQuadIsFloat128 && std::is_same_v<T, Quad>;
+inline constexpr bool kSoftQuad = false;
+#endif
 
 template <class T>
 inline T fabs_(T x) {

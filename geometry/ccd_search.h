@@ -33,6 +33,11 @@ T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth) {
 
 enum class Outcome { Miss, Hit, Undecided };
 
+// Room for a depth-first search over pieces in T down to its pass's maximum depth (each level
+// adds at most one entry).
+template <class T>
+inline constexpr int kStackDepth = (std::is_same_v<T, Quad> ? kCcdMaxDepthQuad : kCcdMaxDepthLong) + 4;
+
 // On a piece where every inside function is certainly positive, contact happens exactly at
 // the roots of the cubic: search them alone (earliest first). Miss: the cubic is certainly
 // nonzero on the piece. Hit: a certain sign change; toi = the earliest point where the cubic
@@ -44,7 +49,7 @@ Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi)
     T ef, lo, hi;
     int depth;
   };
-  Item st[kCcdMaxDepthQuad + 4];
+  Item st[kStackDepth<T>];
   int top = 0;
   st[top++] = {P.f, P.ef, P.lo, P.hi, P.depth};
   while (top > 0) {
@@ -152,7 +157,7 @@ inline void count_touch(LongPass* lp);
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
                T& toi, LongPass* long_pass) {
-  Piece<T> stack[(std::is_same_v<T, Quad> ? kCcdMaxDepthQuad : kCcdMaxDepthLong) + 4];
+  Piece<T> stack[kStackDepth<T>];
   int top = 0;
   stack[top++] = start;
   const bool use_inside = !(S.d > 0);
