@@ -13,12 +13,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include <mccd/core/bvh.h>
+#include <mccd/core/executor.h>
 #include <mccd/core/leaf_rule_owners.h>
 #include <mccd/core/options.h>
 #include <mccd/geometry/coarse_volumes.h>
@@ -43,11 +45,10 @@ class LeafLanes {
 
   LeafLanes() = default;
   /// Room for every leaf of `bvh` (first_touch() zeroes it; ensure() fills a leaf's lanes),
-  /// and the corner lanes of every edge's ends and face's corners.
-  LeafLanes(const BvhTopology& bvh, const LeafOwnership& owners) {
+  /// and the corner lanes of every edge's ends and face's corners (per leaf, through `ex`).
+  LeafLanes(const BvhTopology& bvh, const LeafOwnership& owners, const Executor& ex = serial_executor()) {
     offset_.assign(std::size_t(3) * bvh.size(), 0);
     source_.assign(bvh.size(), kNone);
-    const std::vector<std::uint32_t>& slot_of = owners.layout().vertex_slot;
     std::size_t total = 0, sources = 0;
     for (std::uint32_t node = 0; node < bvh.size(); ++node) {
       if (!bvh.leaf(node)) continue;
@@ -60,29 +61,14 @@ class LeafLanes {
       if (total > 0xffffffffu - kLaneSlack) throw std::length_error("mccd: scene too large for its leaf lanes");
       source_[node] = static_cast<std::uint32_t>(sources++);
     }
-    sources_.assign(sources, {});
-    for (std::uint32_t node = 0; node < bvh.size(); ++node) {
-      if (!bvh.leaf(node)) continue;
-      // the corner lane of each of the leaf's corners: its own vertices, then the others'
-      const std::uint32_t vb = owners.vertex_begin(node), nv = owners.vertex_begin(node + 1) - vb;
-      const std::uint32_t fb = owners.foreign_begin(node), nf = owners.foreign_begin(node + 1) - fb;
-      auto lane = [&](std::uint32_t slot) -> std::uint8_t {
-        if (slot - vb < nv) return static_cast<std::uint8_t>(slot - vb);
-        for (std::uint32_t i = 0; i < nf; ++i)
-          if (owners.foreign_corner(fb + i) == slot) return static_cast<std::uint8_t>(nv + i);
-        throw std::logic_error("mccd: a leaf's corner list misses a corner");
-      };
-      std::uint8_t(*src)[kMaxLanes] = sources_[source_[node]].lane;
-      for (std::uint32_t j = 0, e = owners.edge_begin(node); e != owners.edge_begin(node + 1); ++j, ++e) {
-        const Edge& ends = owners.edge_ends(e);
-        src[0][j] = lane(slot_of[ends[0]]);
-        src[1][j] = lane(slot_of[ends[1]]);
-      }
-      for (std::uint32_t k = 0; k < bvh.leaf_count(node); ++k) {
-        const Triangle& c = owners.face_corner_slots(bvh.leaf_first(node) + k);
-        for (int i = 0; i < 3; ++i) src[2 + i][k] = lane(c[i]);
-      }
-    }
+    sources_.resize(sources);
+    // Each leaf's entries written by its own chunk (a leaf's work grows with the square of its
+    // corners: small chunks, dealt out as threads free up).
+    const std::vector<std::uint32_t>& slot_of = owners.layout().vertex_slot;
+    ex.dynamic_for(bvh.size(), 128, [&](std::size_t begin, std::size_t end) {
+      for (auto node = static_cast<std::uint32_t>(begin); node != end; ++node)
+        if (bvh.leaf(node)) fill_sources(node, bvh, owners, slot_of);
+    });
     values_.resize(total + kLaneSlack);
     leaf_.resize(bvh.size());
     still_.assign(bvh.size(), 0);
@@ -134,6 +120,32 @@ class LeafLanes {
   }
 
  private:
+  /// The corner lane of each of leaf `node`'s edges' ends and faces' corners: its own vertices
+  /// first, then the others'.
+  void fill_sources(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners,
+                    const std::vector<std::uint32_t>& slot_of) {
+    const std::uint32_t vb = owners.vertex_begin(node), nv = owners.vertex_begin(node + 1) - vb;
+    const std::uint32_t fb = owners.foreign_begin(node), nf = owners.foreign_begin(node + 1) - fb;
+    auto lane = [&](std::uint32_t slot) -> std::uint8_t {
+      if (slot - vb < nv) return static_cast<std::uint8_t>(slot - vb);
+      for (std::uint32_t i = 0; i < nf; ++i)
+        if (owners.foreign_corner(fb + i) == slot) return static_cast<std::uint8_t>(nv + i);
+      throw std::logic_error("mccd: a leaf's corner list misses a corner");
+    };
+    Sources& own = sources_[source_[node]];
+    std::memset(&own, 0, sizeof own);  // whole: the lanes past its features read as lane 0
+    std::uint8_t(*src)[kMaxLanes] = own.lane;
+    for (std::uint32_t j = 0, e = owners.edge_begin(node); e != owners.edge_begin(node + 1); ++j, ++e) {
+      const Edge& ends = owners.edge_ends(e);
+      src[0][j] = lane(slot_of[ends[0]]);
+      src[1][j] = lane(slot_of[ends[1]]);
+    }
+    for (std::uint32_t k = 0; k < bvh.leaf_count(node); ++k) {
+      const Triangle& c = owners.face_corner_slots(bvh.leaf_first(node) + k);
+      for (int i = 0; i < 3; ++i) src[2 + i][k] = lane(c[i]);
+    }
+  }
+
   /// Leaf `node`'s lanes from the coarse volumes of the vertices (quantize_vertices()): its
   /// corners' (its own vertices', then the others'), then from those its edges' (the merge of
   /// their ends') and its faces' (of their corners'), in lanes (LaneKernels::merge_lanes).
@@ -239,7 +251,7 @@ class LeafLanes {
   struct Sources {
     std::uint8_t lane[5][kMaxLanes];
   };
-  std::vector<Sources> sources_;
+  LargeVector<Sources> sources_;  ///< uninitialised until each leaf's chunk writes its own
   LargeVector<std::int16_t> values_;
   Grid grid_{};
   std::uint32_t epoch_ = 0;  ///< steps begun: a leaf's lanes are this step's when its stamp is 2 epoch_

@@ -38,6 +38,9 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // Permutations and copies in slot order: every entry written once, in parallel blocks
   // (megabytes for a large scene).
   auto blocks = [&ex](std::size_t n, const auto& body) { ex.static_for(n, 16384, body); };
+  // Loops over the BVH's nodes: far fewer items than a chunk of the loops above, each leaf's
+  // work growing with the square of its features; small chunks, dealt out as threads free up.
+  auto node_blocks = [&ex](std::size_t n, const auto& body) { ex.dynamic_for(n, 128, body); };
   l.edge_slot.resize(topo.num_edges());
   edge_ends_.resize(topo.num_edges());
   blocks(edges_.size(), [&](std::size_t b, std::size_t e) {
@@ -60,7 +63,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // The apart masks of each leaf's own features (LeafOwnership::apart_edges, apart_faces).
   apart_edges_.resize(edges_.size());
   apart_faces_.resize(vertices_.size());
-  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+  node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const auto node = static_cast<std::uint32_t>(i);
       if (!bvh.leaf(node)) continue;
@@ -93,13 +96,13 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     return n;
   };
   foreign_begin_.assign(bvh.size() + 1, 0);
-  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+  node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
     for (std::size_t i = b; i != e; ++i) foreign_begin_[i + 1] = foreign_of(i, buf);
   });
   for (std::size_t i = 1; i < foreign_begin_.size(); ++i) foreign_begin_[i] += foreign_begin_[i - 1];
   foreign_.resize(foreign_begin_.back());
-  blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+  node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
     for (std::size_t i = b; i != e; ++i) std::copy(buf, buf + foreign_of(i, buf), foreign_.begin() + foreign_begin_[i]);
   });

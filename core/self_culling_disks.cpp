@@ -235,8 +235,10 @@ Patch union_patch(const Patch& l, const Patch& r) {
 SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene, const Executor& ex) {
   const MeshTopology& topo = scene.topology();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
-  const std::vector<std::uint8_t> regular = regular_faces(topo, ex);
-  const std::vector<std::uint32_t> component = face_components(topo);
+  // The faces' regularity (parallel itself) beside their components (serial).
+  std::vector<std::uint8_t> regular;
+  std::vector<std::uint32_t> component;
+  ex.invoke([&] { regular = regular_faces(topo, ex); }, [&] { component = face_components(topo); });
   std::vector<std::uint32_t> triangles_below(n, 0);  // filled bottom-up with the patches
   auto triangles = [&](std::uint32_t i) {
     return bvh.leaf(i) ? bvh.leaf_count(i) : triangles_below[bvh.left(i)] + triangles_below[bvh.right(i)];
@@ -279,7 +281,9 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene, con
     ex.invoke([&] { self(self, bvh.left(i)); }, [&] { self(self, bvh.right(i)); });
     node(i);
   };
-  if (n) subtree(subtree, 0);
+  // The disks beside the closed components (find_closed: serial; it writes only the closed_
+  // members, the disks only the others).
+  ex.invoke([&] { if (n) subtree(subtree, 0); }, [&] { find_closed(bvh, scene, regular, component); });
   cycle_offset_.assign(n + 1, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     cycle_offset_[i + 1] = cycle_offset_[i] + static_cast<std::uint32_t>(cycles[i].size());
@@ -298,7 +302,6 @@ SelfCulling::SelfCulling(const BvhTopology& bvh, const SceneTopology& scene, con
   if (n == 1) signed_[0] = disk(0);
   signs_.assign(n, 0);
   top_.assign(n, kNone);
-  find_closed(bvh, scene, regular, component);
 }
 
 void SelfCulling::find_closed(const BvhTopology& bvh, const SceneTopology& scene, const std::vector<std::uint8_t>& regular,

@@ -49,7 +49,8 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       nodes_(bvh_.size()),
       owners_(bvh_, scene.topology(), tbb_executor()),
       volumes_{{},
-               scene.representatives() == Representatives::Leaf ? LeafLanes<BV>(bvh_, owners_) : LeafLanes<BV>(),
+               scene.representatives() == Representatives::Leaf ? LeafLanes<BV>(bvh_, owners_, tbb_executor())
+                                                                 : LeafLanes<BV>(),
                {},
                {}},
       tests_(scene.topology(), volumes_.swept, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
