@@ -44,6 +44,9 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   if (options.substeps < 1) throw Error("frame pipeline: substeps must be at least 1");
   if (options.frames_in_flight < 1) throw Error("frame pipeline: frames_in_flight must be at least 1");
   std::vector<Positions> prev = std::move(first), cur = prev;
+  // The positions of the sub-step before last, their storage reused for the next sub-step's
+  // (a large mesh's arrays fresh every sub-step would fault in their pages every time).
+  std::vector<Positions> spare;
   std::size_t steps = 0;
 
   flow::graph g;
@@ -63,7 +66,8 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
     const int k_max = options.substeps;
     for (int k = 1; k <= k_max; ++k) {
       const double u = double(k) / k_max;
-      std::vector<Positions> end(f->positions.size());
+      std::vector<Positions> end = std::move(spare);
+      end.resize(f->positions.size());
       for (std::size_t m = 0; m < end.size(); ++m) {
         if (k < k_max && m < prev.size() && f->positions[m].rows() == prev[m].rows() &&
             cur[m].rows() == prev[m].rows())
@@ -75,6 +79,7 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
       s->step.index = ++steps;
       s->step.result = scene.step(views(prev), views(end), options.method);
       s->last = k == k_max;
+      spare = std::move(prev);
       prev = std::move(end);
       std::get<0>(out).try_put(s);
     }
