@@ -258,7 +258,13 @@ class FeatureTests {
     if (!wanted(pair, out)) return;
     ++(vf ? out.stats.vf_tests : out.stats.ee_tests);
     double toi = 0;
-    if (narrow_.test(q, ccd, toi, out.stats)) hit(pair, toi, out);
+    // The test's time is conservative (never late) but may be earlier than the first quarter
+    // kept (with a minimum distance it can be 0 for a pair that meets late in the step); no
+    // contact lies before that quarter (the volumes and the filter hold every contact), so
+    // the time is raised to its start. Every way of reaching the pair then reports the same
+    // time, and an earliest-impact query that skips a pair for its first quarter skips nothing
+    // earlier than what it found (the same answer as the full step's, in any order).
+    if (narrow_.test(q, ccd, toi, out.stats)) hit(pair, std::max(toi, pair.toi), out);
   }
 
   /// Whether a pair that passed its volume tests goes to the narrow phase (`pair.toi`: the
