@@ -236,8 +236,7 @@ class Builder {
 std::vector<TriangleBounds> triangle_bounds(const std::vector<Triangle>& faces, const Positions& x,
                                             const detail::Executor& ex) {
   std::vector<TriangleBounds> out;
-  out.reserve(faces.size());
-  detail::advise_huge_pages(out.data(), faces.size() * sizeof(TriangleBounds));  // megabytes, new
+  detail::reserve_huge(out, faces.size());  // megabytes, new: in huge pages where whole, backed at once
   out.resize(faces.size());
   ex.for_chunks(faces.size(), 8192, [&](std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f != end; ++f) {
@@ -270,6 +269,7 @@ void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, c
   auto closed = [&](std::uint32_t r) { return tris[r] >= 4 && tris[r] % 2 == 0 && verts[r] == tris[r] / 2 + 2; };
   const std::size_t meshes = mesh_offsets.size() > 1 ? mesh_offsets.size() - 1 : 1;
   order.clear();
+  detail::reserve_backed(order, n);  // every triangle once, below
   offsets.assign(1, 0);
   unit_mesh.clear();
   std::vector<std::uint32_t> unit_of_root(nv, 0xffffffffu);
@@ -279,6 +279,7 @@ void closed_units(std::size_t n, const std::vector<std::size_t>& mesh_offsets, c
     // the closed components in order of their first triangle, then the rest
     std::vector<std::vector<std::uint32_t>> units;
     std::vector<std::uint32_t> rest;
+    rest.reserve(hi - lo);  // at most every triangle of the mesh: reserved once, not regrown
     for (std::size_t f = lo; f < hi; ++f) {
       const std::uint32_t r = root[faces[f][0]];
       if (!closed(r)) {

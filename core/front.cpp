@@ -18,6 +18,7 @@ void BvttFront::build(WorkerOutputs& pieces) {
     for (const NodePair& p : o.front) ++start[p.a + 1];
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   nodes_.resize(n);
+  populate_pages(nodes_.data(), n * sizeof(NodePair));  // written in full, in no order: backed at once
   for (WorkerOutput& o : pieces) {
     for (const NodePair& p : o.front) nodes_[start[p.a]++] = p;
     o.front = std::vector<NodePair>();  // the pieces are not kept
@@ -29,7 +30,17 @@ void BvttFront::build(WorkerOutputs& pieces) {
 
 void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
                         double invalid_ratio) {
+  // Reserved once for the blocks together (grown by inserts, a new front's storage faulted in
+  // its pages at every growth), with room for a front that grows from step to step; what a
+  // new allocation's nodes reach is backed at once.
+  std::size_t n = 0;
+  for (std::size_t b = 0; b < num_blocks; ++b) n += blocks[b].front.size();
   next_.clear();
+  if (next_.capacity() < n) {
+    next_ = LargeVector<NodePair>();
+    next_.reserve(n + n / 4);
+    populate_pages(next_.data(), n * sizeof(NodePair));
+  }
   for (std::size_t b = 0; b < num_blocks; ++b) {
     const WorkerOutput& o = blocks[b];
     next_.insert(next_.end(), o.front.begin(), o.front.end());

@@ -62,6 +62,7 @@ class LeafLanes {
       source_[node] = static_cast<std::uint32_t>(sources++);
     }
     sources_.resize(sources);
+    populate_pages(sources_.data(), sources * sizeof(Sources));  // written in full below
     // Each leaf's entries written by its own chunk (a leaf's work grows with the square of its
     // corners: small chunks, dealt out as threads free up).
     const std::vector<std::uint32_t>& slot_of = owners.layout().vertex_slot;

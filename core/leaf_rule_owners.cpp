@@ -2,10 +2,19 @@
 
 #include <algorithm>
 
+#include <mccd/geometry/large_allocator.h>
+
 namespace mccd::detail {
 
 LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, const Executor& ex) {
-  std::vector<std::uint32_t> leaf_of_face(topo.num_faces(), 0);
+  // Every array here is written in full right away: its pages backed in one call each
+  // (reserve_backed) rather than faulted in one by one.
+  auto sized = [](auto& v, std::size_t n) {
+    reserve_backed(v, n);
+    v.resize(n);
+  };
+  std::vector<std::uint32_t> leaf_of_face;
+  sized(leaf_of_face, topo.num_faces());
   for (std::uint32_t i = 0; i < bvh.size(); ++i)
     if (bvh.leaf(i))
       for (std::uint32_t k = 0; k < bvh.leaf_count(i); ++k) leaf_of_face[bvh.leaf_triangles(i)[k]] = i;
@@ -15,7 +24,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     for (std::size_t x = 0; x < n; ++x)
       if (first_face(x) != kNoFace) ++begin[leaf_of_face[first_face(x)] + 1];
     for (std::size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
-    ids.resize(begin.back());
+    sized(ids, begin.back());
     std::vector<std::uint32_t> at(begin.begin(), begin.end() - 1);
     for (std::size_t x = 0; x < n; ++x)
       if (first_face(x) != kNoFace) ids[at[leaf_of_face[first_face(x)]]++] = static_cast<std::uint32_t>(x);
@@ -30,6 +39,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // The storage layout: vertices and edges by owner (isolated vertices last), faces in the
   // BVH's triangle order.
   VolumeLayout& l = layout_;
+  reserve_backed(l.vertex_slot, topo.num_vertices());
   l.vertex_slot.assign(topo.num_vertices(), kNoFace);
   for (std::size_t s = 0; s < vertices_.size(); ++s) l.vertex_slot[vertices_[s]] = static_cast<std::uint32_t>(s);
   auto next = static_cast<std::uint32_t>(vertices_.size());
@@ -41,8 +51,8 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // Loops over the BVH's nodes: far fewer items than a chunk of the loops above, each leaf's
   // work growing with the square of its features; small chunks, dealt out as threads free up.
   auto node_blocks = [&ex](std::size_t n, const auto& body) { ex.dynamic_for(n, 128, body); };
-  l.edge_slot.resize(topo.num_edges());
-  edge_ends_.resize(topo.num_edges());
+  sized(l.edge_slot, topo.num_edges());
+  sized(edge_ends_, topo.num_edges());
   blocks(edges_.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s != e; ++s) {
       l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
@@ -50,9 +60,9 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     }
   });
   const std::vector<std::uint32_t>& order = bvh.triangle_order();
-  l.face_slot.resize(topo.num_faces());
-  face_corners_.resize(order.size());
-  face_corner_slots_.resize(order.size());
+  sized(l.face_slot, topo.num_faces());
+  sized(face_corners_, order.size());
+  sized(face_corner_slots_, order.size());
   blocks(order.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s != e; ++s) {
       l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
@@ -61,8 +71,8 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     }
   });
   // The apart masks of each leaf's own features (LeafOwnership::apart_edges, apart_faces).
-  apart_edges_.resize(edges_.size());
-  apart_faces_.resize(vertices_.size());
+  sized(apart_edges_, edges_.size());
+  sized(apart_faces_, vertices_.size());
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const auto node = static_cast<std::uint32_t>(i);
@@ -101,7 +111,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     for (std::size_t i = b; i != e; ++i) foreign_begin_[i + 1] = foreign_of(i, buf);
   });
   for (std::size_t i = 1; i < foreign_begin_.size(); ++i) foreign_begin_[i] += foreign_begin_[i - 1];
-  foreign_.resize(foreign_begin_.back());
+  sized(foreign_, foreign_begin_.back());
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
     for (std::size_t i = b; i != e; ++i) std::copy(buf, buf + foreign_of(i, buf), foreign_.begin() + foreign_begin_[i]);

@@ -1,6 +1,7 @@
 #include <mccd/core/scene_topology.h>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/large_allocator.h>
 
 namespace mccd::detail {
 
@@ -17,7 +18,7 @@ SceneFaces scene_faces(const std::vector<TriMesh>& meshes) {
     r.vertex_offsets.push_back(nv);
     r.face_offsets.push_back(nf);
   }
-  r.faces.reserve(nf);
+  reserve_backed(r.faces, nf);  // written in full below
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const auto o = static_cast<std::uint32_t>(r.vertex_offsets[i]);
     for (const Triangle& t : meshes[i].faces) r.faces.push_back({t[0] + o, t[1] + o, t[2] + o});

@@ -52,6 +52,8 @@ class UnchangedLeaves {
       usable = false;
     }
     if (same_.size() != num_vertices) {
+      reserve_backed(prev0_, 3 * num_vertices);  // written in full by the first compare()
+      reserve_backed(prev1_, 3 * num_vertices);
       prev0_.resize(3 * num_vertices);
       prev1_.resize(3 * num_vertices);
       same_.assign(num_vertices, 0);

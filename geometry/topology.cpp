@@ -9,13 +9,19 @@ namespace mccd {
 MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>& faces) : faces_(faces) {
   const std::size_t nf = faces.size();
   // vertex -> faces, CSR
+  // Every array below is written in full right away: its pages backed in one call each
+  // (reserve_backed) rather than faulted in one by one.
+  detail::reserve_backed(vertex_face_offsets_, num_vertices + 1);
   vertex_face_offsets_.assign(num_vertices + 1, 0);
   for (const Triangle& t : faces)
     for (auto v : t) ++vertex_face_offsets_[v + 1];
   for (std::size_t v = 0; v < num_vertices; ++v) vertex_face_offsets_[v + 1] += vertex_face_offsets_[v];
+  detail::reserve_backed(vertex_faces_, vertex_face_offsets_.back());
   vertex_faces_.resize(vertex_face_offsets_.back());
   {
-    std::vector<std::uint32_t> fill(vertex_face_offsets_.begin(), vertex_face_offsets_.end() - 1);
+    std::vector<std::uint32_t> fill;
+    detail::reserve_backed(fill, num_vertices);
+    fill.assign(vertex_face_offsets_.begin(), vertex_face_offsets_.end() - 1);
     for (std::size_t f = 0; f < nf; ++f)
       for (auto v : faces[f]) vertex_faces_[fill[v]++] = static_cast<std::uint32_t>(f);
   }
@@ -27,11 +33,15 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   // bucket, a few half-edges around one vertex, sorted by (lo, face).
   detail::LargeVector<HalfEdge> half(3 * nf);  // megabytes, touched once: huge pages (large_allocator.h)
   {
-    std::vector<std::uint32_t> start(num_vertices + 1, 0);
+    std::vector<std::uint32_t> start;
+    detail::reserve_backed(start, num_vertices + 1);
+    start.assign(num_vertices + 1, 0);
     for (const Triangle& t : faces)
       for (std::uint32_t k = 0; k < 3; ++k) ++start[std::max(t[k], t[(k + 1) % 3]) + 1];
     for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+    std::vector<std::uint32_t> at;
+    detail::reserve_backed(at, num_vertices);
+    at.assign(start.begin(), start.end() - 1);
     for (std::size_t f = 0; f < nf; ++f)
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t a = faces[f][k], b = faces[f][(k + 1) % 3];
@@ -43,12 +53,16 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   }
   // Half-edges of one edge are adjacent after the sort, ordered by face: the CSR of edge
   // faces falls out directly.
+  detail::reserve_backed(face_edges_, nf);
   face_edges_.assign(nf, {0, 0, 0});
-  edge_faces_.reserve(half.size());
+  detail::reserve_backed(edge_faces_, half.size());
   // At most one edge per half-edge: reserved once instead of grown (each growth copies and
-  // touches new pages; the unused part of the reservation is never touched).
+  // touches new pages; the unused part of the reservation is never touched). Half as many
+  // edges as half-edges where every edge has two faces: that many backed at once.
   edges_.reserve(half.size());
   edge_face_offsets_.reserve(half.size() + 1);
+  detail::populate_pages(edges_.data(), half.size() / 2 * sizeof(Edge));
+  detail::populate_pages(edge_face_offsets_.data(), half.size() / 2 * sizeof(std::uint32_t));
   for (std::size_t i = 0; i < half.size(); ++i) {
     if (i == 0 || half[i].hi != half[i - 1].hi || half[i].lo != half[i - 1].lo) {
       edges_.push_back({half[i].lo, half[i].hi});

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/parallel/update.h>
 
 namespace mccd {
@@ -43,7 +44,8 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
                                const StepSink& sink, const PipelineOptions& options) {
   if (options.substeps < 1) throw Error("frame pipeline: substeps must be at least 1");
   if (options.frames_in_flight < 1) throw Error("frame pipeline: frames_in_flight must be at least 1");
-  std::vector<Positions> prev = std::move(first), cur = prev;
+  std::vector<Positions> prev = std::move(first), cur;
+  for (const Positions& p : prev) cur.push_back(Positions::from_xyz(detail::backed_copy(p.xyz())));
   // The positions of the sub-step before last, their storage reused for the next sub-step's
   // (a large mesh's arrays fresh every sub-step would fault in their pages every time).
   std::vector<Positions> spare;

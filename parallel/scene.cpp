@@ -9,6 +9,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <mccd/core/scene_topology.h>
+#include <mccd/geometry/large_allocator.h>
 #include <mccd/parallel/stepper.h>
 #include <mccd/geometry/error.h>
 
@@ -58,6 +59,7 @@ struct Scene::Impl {
       validate_mesh(meshes[m]);
     }
     const detail::SceneFaces faces = detail::scene_faces(meshes);
+    detail::reserve_backed(last_end.xyz(), 3 * faces.vertex_offsets.back());  // written in full below
     last_end.resize(faces.vertex_offsets.back());
     for (std::size_t m = 0; m < meshes.size(); ++m)
       std::copy(meshes[m].vertices.xyz().begin(), meshes[m].vertices.xyz().end(),

@@ -38,8 +38,8 @@ template <BoundingVolume BV>
 Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial, BvhTopology bvh)
     : scene_(scene),
       options_(options),
-      x0_(initial),
-      x1_(initial),
+      x0_(Positions::from_xyz(backed_copy(initial.xyz()))),  // pages backed at once
+      x1_(Positions::from_xyz(backed_copy(initial.xyz()))),
       bvh_(std::move(bvh)),
       refit_plan_(bvh_,
                   [&](std::uint32_t n) {

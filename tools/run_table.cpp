@@ -6,6 +6,8 @@
 #include <iterator>
 #include <string>
 
+#include <mccd/geometry/large_allocator.h>
+
 #include "progress.h"
 
 namespace mccd::cli {
@@ -80,11 +82,13 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
   }
   // Each sub-step's contacts come sorted (the canonical order), and so do their keys: merged
   // in linear time, each pair kept once.
+  // Arrays of megabytes, grown from sub-step to sub-step: where one is new, its pages are
+  // backed in one call (reserve_backed) instead of faulted in.
   keys_.clear();
-  keys_.reserve(r.contacts.size());
+  mccd::detail::reserve_backed(keys_, r.contacts.size());
   for (const Contact& c : r.contacts) keys_.push_back(key(c));
   merged_.clear();
-  merged_.reserve(pairs_.size() + keys_.size());
+  mccd::detail::reserve_backed(merged_, pairs_.size() + keys_.size());
   std::merge(pairs_.begin(), pairs_.end(), keys_.begin(), keys_.end(), std::back_inserter(merged_));
   merged_.erase(std::unique(merged_.begin(), merged_.end()), merged_.end());
   pairs_.swap(merged_);
