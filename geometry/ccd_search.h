@@ -9,16 +9,18 @@
 
 namespace mccd::detail {
 
-// The earliest point of [lo, hi] where the cubic may vanish, given that it certainly does
-// vanish in [lo, hi] (opposite certain signs at the ends): bisect, keeping the left half
-// unless the cubic is certainly nonzero on it.
+// The earliest point of [lo, hi] where the cubic may be within `band` of 0 (|f| <= dN: the
+// points within the minimum distance of coplanar; 0 without one), given that it certainly
+// vanishes in [lo, hi] (opposite certain signs at the ends): bisect, keeping the left half
+// unless the cubic is certainly beyond the band on it. No contact (within the minimum
+// distance) lies before the point returned: never late.
 template <class T>
-T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth) {
+T refine_toi(Bern<3, T> f, T ef, T lo, T hi, int depth, int max_depth, T band = T(0)) {
   while (depth < max_depth) {
     Bern<3, T> l, r;
     const T e = split_half(f, ef, l, r);
     const T mid = (lo + hi) / 2;
-    if (definite_sign(l, e) != 0) {
+    if (definite_sign(l, e + band) != 0) {
       f = r;
       lo = mid;
     } else {
@@ -57,8 +59,10 @@ Outcome cubic_roots(const Piece<T>& P, T dN, int max_depth, int& budget, T& toi)
     if (definite_sign(I.f, I.ef + dN) != 0) continue;
     const T c0 = I.f.c[0], c3 = I.f.c[3];
     if ((c0 > I.ef && c3 < -I.ef) || (c0 < -I.ef && c3 > I.ef)) {
-      // With d > 0 the first time within d may precede the coplanar time: keep lo.
-      toi = dN > 0 ? I.lo : refine_toi(I.f, I.ef, I.lo, I.hi, I.depth, kCcdToiDepth);
+      // With d > 0 the first time within d may precede the coplanar time: the earliest point
+      // of the piece where the points may be within d of coplanar (the piece's start before:
+      // 0 for a pair decided on the whole step, however late it met).
+      toi = refine_toi(I.f, I.ef, I.lo, I.hi, I.depth, kCcdToiDepth, dN);
       return Outcome::Hit;
     }
     if (I.depth >= max_depth || --budget <= 0) {

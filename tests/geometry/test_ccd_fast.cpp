@@ -377,6 +377,36 @@ TEST(CcdMinDistance, HugeDistanceNeedsNoSearch) {
   }
 }
 
+// A point crossing a triangle's plane late in the step, far from it at the start: with a
+// minimum distance its time is the first within d of the plane (a little before the crossing),
+// never later, and not the start of the piece the search decided it on (0 before: the
+// crossing is certain on the whole step at once). Edge-edge likewise.
+TEST(CcdMinDistance, LateCrossingKeepsItsTime) {
+  const Vec3 A(0, 0, 0), B(1, 0, 0), C(0, 1, 0);
+  for (const double d : {0x1p-10, 0x1p-20, 1e-3}) {
+    for (const double tc : {0.3, 0.7, 0.95}) {
+      // the point's height: 0.7 - t scaled so that it is 0 at tc; within d from tc - d / speed
+      const double speed = 1.0, z0 = tc * speed;
+      CcdPoints vf;
+      vf.start = {Vec3(0.2, 0.2, z0), A, B, C};
+      vf.end = {Vec3(0.2, 0.2, z0 - speed), A, B, C};
+      CcdPoints ee;
+      ee.start = {Vec3(-1, 0.3, z0), Vec3(1, 0.3, z0), Vec3(0.2, -1, 0), Vec3(0.2, 1, 0)};
+      ee.end = {Vec3(-1, 0.3, z0 - speed), Vec3(1, 0.3, z0 - speed), Vec3(0.2, -1, 0), Vec3(0.2, 1, 0)};
+      const double first = tc - d / speed;  // the first time within d
+      for (const bool is_vf : {true, false}) {
+        double toi = -1;
+        const bool hit = is_vf ? vertex_face_ccd(vf, toi, CcdOptions{d}) : edge_edge_ccd(ee, toi, CcdOptions{d});
+        const std::string what = std::string(is_vf ? "VF" : "EE") + " d " + std::to_string(d) + " tc " + std::to_string(tc);
+        EXPECT_TRUE(hit) << what;
+        EXPECT_LE(toi, first * (1 + 1e-12)) << what << ": late";
+        // (the band of the search bounds d |n| over the whole step: a few d early at most)
+        EXPECT_GE(toi, first - 16 * d) << what << ": far earlier than the first time within d";
+      }
+    }
+  }
+}
+
 // Each way of proving "within d at t = 0" (corner, segment, interior), for both kinds, at
 // half the distance (a contact at toi = 0, no search) and at twice the distance moving apart
 // (no contact).

@@ -113,17 +113,17 @@ TEST(Stepper, CollisionFreeStepsAgree) {
 }
 
 TEST(Stepper, ContactTimesLieInTheirFirstMeetingQuarter) {
-  // With a minimum distance the elementary test's time is conservative and may be 0 for a pair
-  // that meets late in the step. The engine reports no time before the first quarter in
-  // which the pair's volumes and the filter allow a contact (its time as a candidate): then
-  // earliest_impact, which skips pairs by that quarter, answers as the full step in any order
-  // of the work (the step below had pairs at 0 that meet after 0.5).
+  // No reported time lies before the first quarter in which the pair's volumes and the filter
+  // allow a contact (its time as a candidate). earliest_impact skips pairs by that quarter, so
+  // this is what makes it answer as the full step in any order of the work. With a minimum
+  // distance the elementary test once said 0 for pairs meeting after 0.5 in this scene (it
+  // now refines such a time, and the engine raises any earlier one to the quarter's start).
   SceneOptions o;
   o.min_distance = 1e-3;
   o.leaf_size = 4;
   const AnimatedScene a = make_deforming_spheres(3, 8, 6);
   StepperRig<Aabb> brute(a, o), queries(a, o);
-  std::size_t checked = 0, raised = 0;
+  std::size_t checked = 0, late_quarter = 0;
   for (std::size_t f = 0; f < brute.steps(); ++f) {
     SCOPED_TRACE("step " + std::to_string(f));
     const StepResult full = brute.step(f, Method::BruteForce);
@@ -135,9 +135,9 @@ TEST(Stepper, ContactTimesLieInTheirFirstMeetingQuarter) {
       ASSERT_NE(it, first_quarter.end()) << "a contact that is not a candidate";
       EXPECT_GE(c.toi, it->second) << "a time before the pair's first meeting quarter";
       ++checked;
-      raised += c.toi == it->second && it->second > 0;
+      late_quarter += it->second >= 0.5;
     }
   }
   EXPECT_GT(checked, 0u);
-  EXPECT_GT(raised, 0u) << "no contact time at the start of a later quarter: the case is not exercised";
+  EXPECT_GT(late_quarter, 0u) << "no contact first allowed in the step's second half: the case is not exercised";
 }
