@@ -8,13 +8,9 @@ namespace mccd::detail {
 
 LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, const Executor& ex) {
   // Every array here is written in full right away: its pages backed in one call each
-  // (reserve_backed) rather than faulted in one by one.
-  auto sized = [](auto& v, std::size_t n) {
-    reserve_backed(v, n);
-    v.resize(n);
-  };
+  // (backed_assign) rather than faulted in one by one.
   std::vector<std::uint32_t> leaf_of_face;
-  sized(leaf_of_face, topo.num_faces());
+  backed_assign(leaf_of_face, topo.num_faces());
   for (std::uint32_t i = 0; i < bvh.size(); ++i)
     if (bvh.leaf(i))
       for (std::uint32_t k = 0; k < bvh.leaf_count(i); ++k) leaf_of_face[bvh.leaf_triangles(i)[k]] = i;
@@ -24,7 +20,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     for (std::size_t x = 0; x < n; ++x)
       if (first_face(x) != kNoFace) ++begin[leaf_of_face[first_face(x)] + 1];
     for (std::size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
-    sized(ids, begin.back());
+    backed_assign(ids, begin.back());
     std::vector<std::uint32_t> at(begin.begin(), begin.end() - 1);
     for (std::size_t x = 0; x < n; ++x)
       if (first_face(x) != kNoFace) ids[at[leaf_of_face[first_face(x)]]++] = static_cast<std::uint32_t>(x);
@@ -39,8 +35,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // The storage layout: vertices and edges by owner (isolated vertices last), faces in the
   // BVH's triangle order.
   VolumeLayout& l = layout_;
-  reserve_backed(l.vertex_slot, topo.num_vertices());
-  l.vertex_slot.assign(topo.num_vertices(), kNoFace);
+  backed_assign(l.vertex_slot, topo.num_vertices(), kNoFace);
   for (std::size_t s = 0; s < vertices_.size(); ++s) l.vertex_slot[vertices_[s]] = static_cast<std::uint32_t>(s);
   auto next = static_cast<std::uint32_t>(vertices_.size());
   for (std::uint32_t& s : l.vertex_slot)
@@ -51,8 +46,8 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   // Loops over the BVH's nodes: far fewer items than a chunk of the loops above, each leaf's
   // work growing with the square of its features; small chunks, dealt out as threads free up.
   auto node_blocks = [&ex](std::size_t n, const auto& body) { ex.dynamic_for(n, 128, body); };
-  sized(l.edge_slot, topo.num_edges());
-  sized(edge_ends_, topo.num_edges());
+  backed_assign(l.edge_slot, topo.num_edges());
+  backed_assign(edge_ends_, topo.num_edges());
   blocks(edges_.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s != e; ++s) {
       l.edge_slot[edges_[s]] = static_cast<std::uint32_t>(s);
@@ -60,9 +55,9 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     }
   });
   const std::vector<std::uint32_t>& order = bvh.triangle_order();
-  sized(l.face_slot, topo.num_faces());
-  sized(face_corners_, order.size());
-  sized(face_corner_slots_, order.size());
+  backed_assign(l.face_slot, topo.num_faces());
+  backed_assign(face_corners_, order.size());
+  backed_assign(face_corner_slots_, order.size());
   blocks(order.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t s = b; s != e; ++s) {
       l.face_slot[order[s]] = static_cast<std::uint32_t>(s);
@@ -71,8 +66,8 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     }
   });
   // The apart masks of each leaf's own features (LeafOwnership::apart_edges, apart_faces).
-  sized(apart_edges_, edges_.size());
-  sized(apart_faces_, vertices_.size());
+  backed_assign(apart_edges_, edges_.size());
+  backed_assign(apart_faces_, vertices_.size());
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i) {
       const auto node = static_cast<std::uint32_t>(i);
@@ -111,7 +106,7 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
     for (std::size_t i = b; i != e; ++i) foreign_begin_[i + 1] = foreign_of(i, buf);
   });
   for (std::size_t i = 1; i < foreign_begin_.size(); ++i) foreign_begin_[i] += foreign_begin_[i - 1];
-  sized(foreign_, foreign_begin_.back());
+  backed_assign(foreign_, foreign_begin_.back());
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     std::uint32_t buf[3 * BvhTopology::kMaxLeaf];
     for (std::size_t i = b; i != e; ++i) std::copy(buf, buf + foreign_of(i, buf), foreign_.begin() + foreign_begin_[i]);

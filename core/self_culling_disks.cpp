@@ -312,22 +312,18 @@ void SelfCulling::find_closed(const BvhTopology& bvh, const SceneTopology& scene
   // Per component: its faces, and whether it is closed and regular (each edge with exactly two
   // faces, each face regular) with V - E + F = 2.
   const std::size_t nf = topo.num_faces();
-  // Arrays per component, indexed by a face id: each backed in one call (reserve_backed)
+  // Arrays per component, indexed by a face id: each backed in one call (backed_assign)
   // rather than faulted in page by page.
-  auto filled = [nf](auto& v, auto value) {
-    reserve_backed(v, nf);
-    v.assign(nf, value);
-  };
   std::vector<std::uint32_t> faces_of;
-  filled(faces_of, std::uint32_t(0));
+  backed_assign(faces_of, nf);
   std::vector<std::uint8_t> sphere;
-  filled(sphere, std::uint8_t(1));
+  backed_assign(sphere, nf, std::uint8_t(1));
   for (std::size_t f = 0; f < nf; ++f) {
     ++faces_of[component[f]];
     if (!regular[f]) sphere[component[f]] = 0;
   }
   std::vector<std::int64_t> chi;
-  filled(chi, std::int64_t(0));
+  backed_assign(chi, nf);
   for (std::size_t f = 0; f < nf; ++f) chi[component[f]] += 1;
   for (std::size_t e = 0; e < topo.num_edges(); ++e) {
     const std::uint32_t c = component[topo.edge_faces_begin(e)[0]];

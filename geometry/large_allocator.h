@@ -82,6 +82,13 @@ void reserve_backed(std::vector<T, A>& v, std::size_t n) {
   if (fresh && n * sizeof(T) >= (std::size_t(64) << 10)) populate_pages(v.data(), n * sizeof(T));
 }
 
+/// An empty std::vector made `n` copies of `value`, its pages backed in one call.
+template <class T, class A>
+void backed_assign(std::vector<T, A>& v, std::size_t n, const std::type_identity_t<T>& value = T()) {
+  reserve_backed(v, n);
+  v.assign(n, value);
+}
+
 /// A copy of `v` whose pages are backed in one call (reserve_backed) rather than faulted in.
 template <class T, class A>
 std::vector<T, A> backed_copy(const std::vector<T, A>& v) {
@@ -89,6 +96,13 @@ std::vector<T, A> backed_copy(const std::vector<T, A>& v) {
   reserve_backed(c, v.size());
   c.assign(v.begin(), v.end());
   return c;
+}
+/// The same for positions (a type keeping its numbers in one vector, xyz(), made from one by
+/// from_xyz(): Positions, whose public header does not see this one).
+template <class P>
+  requires requires(const P& p) { P::from_xyz(backed_copy(p.xyz())); }
+P backed_copy(const P& p) {
+  return P::from_xyz(backed_copy(p.xyz()));
 }
 
 /// Reserves room for `n` elements in an empty std::vector of any allocator (one handed to the

@@ -11,13 +11,11 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   // vertex -> faces, CSR
   // Every array below is written in full right away: its pages backed in one call each
   // (reserve_backed) rather than faulted in one by one.
-  detail::reserve_backed(vertex_face_offsets_, num_vertices + 1);
-  vertex_face_offsets_.assign(num_vertices + 1, 0);
+  detail::backed_assign(vertex_face_offsets_, num_vertices + 1);
   for (const Triangle& t : faces)
     for (auto v : t) ++vertex_face_offsets_[v + 1];
   for (std::size_t v = 0; v < num_vertices; ++v) vertex_face_offsets_[v + 1] += vertex_face_offsets_[v];
-  detail::reserve_backed(vertex_faces_, vertex_face_offsets_.back());
-  vertex_faces_.resize(vertex_face_offsets_.back());
+  detail::backed_assign(vertex_faces_, vertex_face_offsets_.back());
   {
     std::vector<std::uint32_t> fill;
     detail::reserve_backed(fill, num_vertices);
@@ -34,8 +32,7 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   detail::LargeVector<HalfEdge> half(3 * nf);  // megabytes, touched once: huge pages (large_allocator.h)
   {
     std::vector<std::uint32_t> start;
-    detail::reserve_backed(start, num_vertices + 1);
-    start.assign(num_vertices + 1, 0);
+    detail::backed_assign(start, num_vertices + 1);
     for (const Triangle& t : faces)
       for (std::uint32_t k = 0; k < 3; ++k) ++start[std::max(t[k], t[(k + 1) % 3]) + 1];
     for (std::size_t v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
@@ -53,8 +50,7 @@ MeshTopology::MeshTopology(std::size_t num_vertices, const std::vector<Triangle>
   }
   // Half-edges of one edge are adjacent after the sort, ordered by face: the CSR of edge
   // faces falls out directly.
-  detail::reserve_backed(face_edges_, nf);
-  face_edges_.assign(nf, {0, 0, 0});
+  detail::backed_assign(face_edges_, nf, {0, 0, 0});
   detail::reserve_backed(edge_faces_, half.size());
   // At most one edge per half-edge: reserved once instead of grown (each growth copies and
   // touches new pages; the unused part of the reservation is never touched). Half as many

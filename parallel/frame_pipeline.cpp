@@ -45,7 +45,7 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   if (options.substeps < 1) throw Error("frame pipeline: substeps must be at least 1");
   if (options.frames_in_flight < 1) throw Error("frame pipeline: frames_in_flight must be at least 1");
   std::vector<Positions> prev = std::move(first), cur;
-  for (const Positions& p : prev) cur.push_back(Positions::from_xyz(detail::backed_copy(p.xyz())));
+  for (const Positions& p : prev) cur.push_back(detail::backed_copy(p));  // pages backed at once
   // The positions of the sub-step before last, their storage reused for the next sub-step's
   // (a large mesh's arrays fresh every sub-step would fault in their pages every time).
   std::vector<Positions> spare;

@@ -38,8 +38,8 @@ template <BoundingVolume BV>
 Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, const Positions& initial, BvhTopology bvh)
     : scene_(scene),
       options_(options),
-      x0_(Positions::from_xyz(backed_copy(initial.xyz()))),  // pages backed at once
-      x1_(Positions::from_xyz(backed_copy(initial.xyz()))),
+      x0_(backed_copy(initial)),  // pages backed at once
+      x1_(backed_copy(initial)),
       bvh_(std::move(bvh)),
       refit_plan_(bvh_,
                   [&](std::uint32_t n) {

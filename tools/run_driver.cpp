@@ -30,12 +30,12 @@ namespace mccd::cli {
 
 namespace {
 
-/// Copies of arrays of megabytes, their pages backed in one call each (detail::reserve_backed)
+/// A copy of the meshes, their arrays' pages backed in one call each (detail::backed_copy)
 /// rather than faulted in one by one (several times dearer in a virtual machine).
-Positions backed_copy(const Positions& p) { return Positions::from_xyz(detail::backed_copy(p.xyz())); }
 std::vector<TriMesh> backed_copy(const std::vector<TriMesh>& meshes) {
   std::vector<TriMesh> out;
-  for (const TriMesh& m : meshes) out.push_back({backed_copy(m.vertices), detail::backed_copy(m.faces), m.name});
+  for (const TriMesh& m : meshes)
+    out.push_back({detail::backed_copy(m.vertices), detail::backed_copy(m.faces), m.name});
   return out;
 }
 
@@ -209,7 +209,7 @@ int run_range(const RunInput& input, const RunSettings& st, Cluster& ranks, std:
     try {
       std::vector<Positions> first;
       if (b == 0)
-        for (const TriMesh& m : input.meshes) first.push_back(backed_copy(m.vertices));
+        for (const TriMesh& m : input.meshes) first.push_back(detail::backed_copy(m.vertices));
       else
         first = input.frame(b);
       reached = b + 1;
@@ -310,7 +310,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
   if (!st.image.empty()) (void)image_format("--image", st.image);
   if (!st.colored.empty()) check_extension("--colored", st.colored, {".ply"});
   std::vector<Positions> first;
-  for (const TriMesh& m : input.meshes) first.push_back(backed_copy(m.vertices));
+  for (const TriMesh& m : input.meshes) first.push_back(detail::backed_copy(m.vertices));
   check_min_distance(st.scene.min_distance, first);
   const int R = ranks ? ranks->size() : 1;
   if (R > 1 && ranks->rank() != 0) {

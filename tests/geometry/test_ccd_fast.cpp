@@ -397,7 +397,8 @@ TEST(CcdMinDistance, LateCrossingKeepsItsTime) {
       for (const bool is_vf : {true, false}) {
         double toi = -1;
         const bool hit = is_vf ? vertex_face_ccd(vf, toi, CcdOptions{d}) : edge_edge_ccd(ee, toi, CcdOptions{d});
-        const std::string what = std::string(is_vf ? "VF" : "EE") + " d " + std::to_string(d) + " tc " + std::to_string(tc);
+        const std::string what =
+            std::string(is_vf ? "VF" : "EE") + " d " + std::to_string(d) + " tc " + std::to_string(tc);
         EXPECT_TRUE(hit) << what;
         EXPECT_LE(toi, first * (1 + 1e-12)) << what << ": late";
         // (the band of the search bounds d |n| over the whole step: a few d early at most)
