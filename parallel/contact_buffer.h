@@ -41,15 +41,20 @@ inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
 /// position_bits(n)) - 1) is the position. When the compact key and the position do not fit in
 /// 64 bits, returns false and leaves `order` empty (the caller sorts otherwise). The top bits
 /// pick a bucket (counted and scattered by chunks of keys in parallel, each chunk into its own
-/// slots of each bucket), then the buckets are sorted in parallel.
+/// slots of each bucket), then the buckets are sorted in parallel. `counts`: where the
+/// per-chunk bucket counts are kept from call to call (a local array when null).
 template <class KeyIterator>
-bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order);
+bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
+                      std::vector<std::uint32_t>* counts = nullptr);
 /// Bits that hold a position below n.
 inline unsigned position_bits(std::size_t n) { return n > 1 ? static_cast<unsigned>(std::bit_width(n - 1)) : 1u; }
+/// Contacts from which the join runs in parallel (below, a loop's tasks cost more than they save).
+inline constexpr std::size_t kParallelJoin = 1024;
 
 /// What the join keeps from step to step (so that its memory is reused).
 struct JoinScratch {
   LargeVector<std::uint64_t> order;
+  std::vector<std::uint32_t> counts;  ///< packed_key_order's per-chunk bucket counts
   LargeVector<RawContact> raw;  ///< where keys and positions do not fit one word
 };
 
@@ -61,7 +66,8 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
                    bool allow_packed = true);
 
 template <class KeyIterator>
-bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order) {
+bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
+                      std::vector<std::uint32_t>* counts) {
   order.clear();
   const unsigned pos_bits = position_bits(n), key_bits = 1 + 2 * id_bits, bits = key_bits + pos_bits;
   if (bits > 64) return false;
@@ -75,20 +81,29 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
   // become each chunk's first slot in each bucket (bucket by bucket, chunk by chunk), and each
   // chunk scatters its keys there; then each bucket is sorted on its own. A bucket's entries
   // are the same whatever the chunks, and its sort orders them by their unique keys.
-  const unsigned top = std::min(bits, 11u), shift = bits - top;
+  // Up to 16 chunks of at least 512 keys (a step of a few thousand contacts is still cut up),
+  // and 8 or more keys a bucket: the serial pass over the counts (buckets x chunks) stays short.
+  const unsigned top = std::min({bits, 11u, std::max(position_bits(n), 7u) - 3}), shift = bits - top;
   const std::size_t nb = std::size_t(1) << top;
-  constexpr std::size_t kChunk = 16384;
+  const std::size_t kChunk =
+      n > kParallelJoin ? std::clamp<std::size_t>(n / 16, 512, 16384) : std::max<std::size_t>(n, 1);
   const std::size_t nc = std::max<std::size_t>(1, (n + kChunk - 1) / kChunk);
-  std::vector<std::uint32_t> slot(nc * nb, 0), start(nb + 1, 0);
+  // Each chunk's counts lie a row of nb + 16 apart: rows a power of two apart (4 KiB or more)
+  // all map to the same cache sets, and the serial pass down a column ran 7x slower.
+  const std::size_t row = nb + 16;
+  std::vector<std::uint32_t> local;
+  std::vector<std::uint32_t>& slot = counts ? *counts : local;
+  slot.assign(nc * row + nb + 1, 0);
+  std::uint32_t* const start = slot.data() + nc * row;
   auto count = [&](std::size_t c) {
     const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
-    std::uint32_t* h = slot.data() + c * nb;
+    std::uint32_t* h = slot.data() + c * row;
     KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
     for (std::size_t i = b; i < e; ++i, ++k) ++h[packed(*k, i) >> shift];
   };
   auto scatter = [&](std::size_t c) {
     const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
-    std::uint32_t* next = slot.data() + c * nb;
+    std::uint32_t* next = slot.data() + c * row;
     KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
     for (std::size_t i = b; i < e; ++i, ++k) {
       const std::uint64_t v = packed(*k, i);
@@ -104,8 +119,8 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
   for (std::size_t b = 0; b < nb; ++b) {
     start[b] = at;
     for (std::size_t c = 0; c < nc; ++c) {
-      const std::uint32_t m = slot[c * nb + b];
-      slot[c * nb + b] = at;
+      const std::uint32_t m = slot[c * row + b];
+      slot[c * row + b] = at;
       at += m;
     }
   }
@@ -125,8 +140,8 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
         std::sort(first, last);
     }
   };
-  if (n > 4096)
-    chunked_for(nb, 64, sort_buckets, tbb::auto_partitioner());
+  if (n > kParallelJoin)
+    chunked_for(nb, std::max<std::size_t>(1, nb / 64), sort_buckets, tbb::auto_partitioner());
   else
     sort_buckets(0, nb);
   return true;

@@ -31,7 +31,8 @@ std::vector<std::uint64_t> random_keys(std::size_t n, unsigned id_bits, std::uin
 
 TEST(ContactOrder, PackedOrderIsTheOrderOfTheKeys) {
   for (const auto& [n, id_bits] : std::vector<std::pair<std::size_t, unsigned>>{
-           {0, 1}, {1, 1}, {2, 1}, {3, 2}, {1000, 5}, {5000, 12}, {100000, 18}, {20000, 24}}) {  // the last: 64 bits exactly
+           {0, 1}, {1, 1}, {2, 1}, {3, 2}, {1000, 5}, {1025, 6}, {2500, 12}, {5000, 12}, {100000, 18},
+           {20000, 24}}) {  // the last: 64 bits exactly
     const std::vector<std::uint64_t> keys = random_keys(n, id_bits, static_cast<std::uint32_t>(n + id_bits));
     LargeVector<std::uint64_t> order;
     ASSERT_TRUE(packed_key_order(keys.begin(), n, id_bits, order))
@@ -91,7 +92,8 @@ TEST(ContactOrder, JoinIsTheSameThroughBothSorts) {
   const std::vector<TriMesh> meshes{make_grid_mesh(40), make_sphere_mesh(20, 30)};
   SceneTopology scene(scene_faces(meshes), {});
   const MeshTopology& topo = scene.topology();
-  for (std::size_t n : {std::size_t(0), std::size_t(100), std::size_t(30000)}) {
+  for (std::size_t n : {std::size_t(0), std::size_t(100), kParallelJoin, kParallelJoin + 1, std::size_t(3000),
+                        std::size_t(30000)}) {
     std::mt19937 rng(static_cast<std::uint32_t>(n));
     std::set<std::uint64_t> seen;
     ContactBuffer buffer;
