@@ -4,7 +4,7 @@
 # Usage: perf/device_sweep.sh BIN_DIR DATA_DIR OUT_DIR [LABEL]
 #   BIN_DIR holds bench_core and mccd (and lib/ with the libtbb they link, when carried);
 #   THREADS (default 1,2,4,8,16), REPEATS (3), METHODS (phc,fbd), SCENES (all) and
-#   DRAPE_FRAMES (10) tune it from the environment.
+#   DRAPE_FRAMES (10) and DRAPE_THREADS (the same as THREADS) tune it from the environment.
 set -euo pipefail
 bin=$1 data=$2 out=$3 label=${4:-sweep}
 threads=${THREADS:-1,2,4,8,16}
@@ -19,7 +19,7 @@ scenes=${SCENES:-cloth-ball,n-body,bart,skirt,cloth-ball-toi,cloth-ball-toi-5sub
 "$bin/bench_core" --threads "$threads" --repeats "${REPEATS:-3}" --methods "${METHODS:-phc,fbd}" \
   --scenes "$scenes" --data "$data" --cache "${CACHE:-/tmp/mccd-scenes}" --out "$out/$label" --no-plots \
   >>"$log" 2>&1
-IFS=, read -ra counts <<<"$threads"
+IFS=, read -ra counts <<<"${DRAPE_THREADS:-$threads}"
 for t in "${counts[@]}"; do
   for r in 1 2 3; do
     # (exit status 1: collisions found, as expected here)
