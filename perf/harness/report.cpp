@@ -191,7 +191,9 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
          "(every task of every\nparallel loop timed, nested loops and invokes at every depth; the search and the self "
          "stage as one branch;\neach stage's least work and span of the three). Predicted ms/frame on P threads: the "
          "time outside the\nstages plus, per stage, span + (work - span) / P; beside it the measured median (error = "
-         "predicted /\nmeasured - 1). Memory bandwidth and scheduling costs are not in the model.\n\n"
+         "predicted /\nmeasured - 1). Memory bandwidth and scheduling costs are not in the model. Last: the same prediction\n"
+         "scaled to the measured 2-thread median (measured at 2 x predicted at P / predicted at 2): the instrumented\n"
+         "runs are slower than the timed ones, and a lent machine's speed moves between runs.\n\n"
          "| scene | method | stage | work ms/frame | span ms/frame | parallelism |\n| --- | --- | --- | --- | --- | --- |\n";
     for (const VariantSummary& v : variants) {
       if (v.config != "work-span") continue;
@@ -204,23 +206,32 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
         o << "| " << v.scene << " | " << to_string(v.method) << " | " << name << " | " << num(1e3 * ws.work * k, 3)
           << " | " << num(1e3 * ws.span * k, 3) << " | " << num(ws.span > 0 ? ws.work / ws.span : NAN, 1) << " |\n";
     }
-    o << "\n| scene | method | threads | predicted ms/frame | measured ms/frame | error |\n| --- | --- | --- | --- | --- | --- |\n";
+    o << "\n| scene | method | threads | predicted ms/frame | measured ms/frame | error | from 2 threads | error |\n"
+         "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for (const VariantSummary& v : variants) {
       if (v.config != "work-span") continue;
       std::vector<int> shown;
       for (const VariantSummary& w : variants)
         if (w.scene == v.scene && w.config == "default" && w.method == v.method) shown.push_back(w.threads);
       for (int t : {16}) if (std::find(shown.begin(), shown.end(), t) == shown.end()) shown.push_back(t);
-      for (int t : shown) {
-        const double p = predicted_ms(v.counts, t);
-        double measured = NAN;
+      auto measured_at = [&](int t) {
         for (const VariantSummary& w : variants)
           if (w.scene == v.scene && w.config == "default" && w.method == v.method && w.threads == t)
-            measured = w.median_ms[kStep];
+            return w.median_ms[kStep];
+        return double(NAN);
+      };
+      auto error = [](double p, double m) {
+        return std::isnan(p) ? std::string("-")
+               : std::isnan(m) ? std::string("(predicted only)")
+                               : num(100 * (p / m - 1), 1) + "%";
+      };
+      const double two = measured_at(2);
+      for (int t : shown) {
+        const double p = predicted_ms(v.counts, t), measured = measured_at(t);
+        const double q = std::isnan(two) ? NAN : predicted_from_ms(v.counts, t, 2, two);
         o << "| " << v.scene << " | " << to_string(v.method) << " | " << t << " | " << num(p, 2) << " | "
-          << num(measured, 2) << " | "
-          << (std::isnan(measured) ? std::string("(predicted only)") : num(100 * (p / measured - 1), 1) + "%")
-          << " |\n";
+          << num(measured, 2) << " | " << error(p, measured) << " | " << (std::isnan(q) ? "-" : num(q, 2)) << " | "
+          << error(q, measured) << " |\n";
       }
     }
   }

@@ -63,6 +63,10 @@ double predicted_ms(const RunRecord& measured, int threads) {
   return 1e3 * s.predicted_seconds(threads) / std::max(measured.intervals, 1);
 }
 
+double predicted_from_ms(const RunRecord& measured, int threads, int from, double measured_from_ms) {
+  return measured_from_ms * predicted_ms(measured, threads) / predicted_ms(measured, from);
+}
+
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs) {
   std::vector<VariantSummary> out;
   std::map<std::tuple<std::string, std::string, int, int>, std::vector<const RunRecord*>> timed;

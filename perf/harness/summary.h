@@ -48,6 +48,11 @@ double amdahl_speedup(double s, int threads);
 /// "work-span", 1 thread) predicts on `threads` threads: its time outside the stages, plus each
 /// stage's span + (work - span) / threads (StepStats::predicted_seconds).
 double predicted_ms(const RunRecord& measured, int threads);
+/// The same prediction scaled to a measured time on `from` threads: `measured_from_ms` x
+/// predicted_ms(threads) / predicted_ms(from). The instrumented 1-thread runs take longer than
+/// the timed ones and a lent machine's speed moves between runs; the model's ratio between two
+/// thread counts is what it knows best.
+double predicted_from_ms(const RunRecord& measured, int threads, int from, double measured_from_ms);
 
 /// Groups runs by (scene, configuration, method, threads), in the order they first appear.
 std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs);

@@ -128,4 +128,8 @@ TEST(HarnessSummary, WorkSpanPredictsEachStageAndTheTimeOutside) {
   EXPECT_NEAR(predicted_ms(r, 4), 6.0625 / 2, 1e-12);
   EXPECT_NEAR(predicted_ms(r, 1), 5.0, 1e-12);  // one thread: the measured time itself
   EXPECT_NEAR(r.sum.ws_branch.predict(1e9), 0.5e-3, 1e-11);  // never below the span
+  // Scaled to a measured 2-thread time of 4 ms: on 2 threads 2 + 1.5 + 1 + 2.25 + 0.625 =
+  // 7.375 ms, per interval 3.6875; 4 x 3.03125 / 3.6875 on 4 threads, 4 itself on 2.
+  EXPECT_NEAR(predicted_from_ms(r, 4, 2, 4.0), 4.0 * 3.03125 / 3.6875, 1e-12);
+  EXPECT_NEAR(predicted_from_ms(r, 2, 2, 4.0), 4.0, 1e-12);
 }
