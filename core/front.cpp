@@ -29,24 +29,29 @@ void BvttFront::build(WorkerOutputs& pieces) {
 }
 
 void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
-                        double invalid_ratio) {
+                        double invalid_ratio, const Executor& ex) {
   // Reserved once for the blocks together (grown by inserts, a new front's storage faulted in
   // its pages at every growth), with room for a front that grows from step to step; what a
-  // new allocation's nodes reach is backed at once.
-  std::size_t n = 0;
-  for (std::size_t b = 0; b < num_blocks; ++b) n += blocks[b].front.size();
+  // new allocation's nodes reach is backed at once. Each block's part then goes to its own
+  // place (a serial copy of the whole front was a serial part of every tracked step).
+  std::vector<std::size_t> at(num_blocks + 1, 0);
+  for (std::size_t b = 0; b < num_blocks; ++b) {
+    at[b + 1] = at[b] + blocks[b].front.size();
+    sprouted_since_build_ += blocks[b].stats.sprouted;
+    invalidated_since_build_ += blocks[b].stats.invalidated;
+  }
+  const std::size_t n = at[num_blocks];
   next_.clear();
   if (next_.capacity() < n) {
     next_ = LargeVector<NodePair>();
     next_.reserve(n + n / 4);
     populate_pages(next_.data(), n * sizeof(NodePair));
   }
-  for (std::size_t b = 0; b < num_blocks; ++b) {
-    const WorkerOutput& o = blocks[b];
-    next_.insert(next_.end(), o.front.begin(), o.front.end());
-    sprouted_since_build_ += o.stats.sprouted;
-    invalidated_since_build_ += o.stats.invalidated;
-  }
+  next_.resize(n);  // left uninitialised (LargeVector): every entry is written below
+  ex.dynamic_for(num_blocks, 32, [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b != b1; ++b)
+      std::copy(blocks[b].front.begin(), blocks[b].front.end(), next_.begin() + static_cast<std::ptrdiff_t>(at[b]));
+  });
   nodes_.swap(next_);
   const double L = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
   if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||

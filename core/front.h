@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <mccd/core/bvtt_node.h>
+#include <mccd/core/executor.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/assert.h>
 #include <mccd/geometry/large_allocator.h>
@@ -28,9 +29,10 @@ class BvttFront {
   void build(WorkerOutputs& pieces);
   /// The next front from the outputs of the tracked blocks, in block order; adds their S and B
   /// counts and applies the rebuild rule: when S/L > sprout_ratio or B/L > invalid_ratio (L the
-  /// new front size), the next step rebuilds.
-  void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio,
-               double invalid_ratio);
+  /// new front size), the next step rebuilds. The blocks' parts are copied through `ex`, each
+  /// to its own place.
+  void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio, double invalid_ratio,
+               const Executor& ex = serial_executor());
   /// The memory cap: the bytes held by the front and by the parts of it in `units`; over
   /// `max_bytes` (0: no cap) both are released and the next step rebuilds. Returns the bytes
   /// held after it.

@@ -16,6 +16,7 @@
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/front_tracking.h>
 #include <mccd/parallel/phc.h>
+#include <mccd/parallel/tbb_executor.h>
 
 namespace mccd::detail {
 
@@ -74,7 +75,7 @@ class SearchStage {
     } else {
       const std::size_t n = track_front(bvtt, front_, units_, contacts);
       add(n, stats);
-      front_.advance(units_, n, rules_.sprout_ratio, rules_.invalid_ratio);
+      front_.advance(units_, n, rules_.sprout_ratio, rules_.invalid_ratio, tbb_executor());
     }
     stats.front_bytes = front_.cap(units_, rules_.max_bytes);
     stats.front_size = front_.size();
