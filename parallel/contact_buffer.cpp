@@ -61,7 +61,7 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     // ahead (16 records ahead hid most of the latency).
     constexpr std::size_t kAhead = 16;
     for (std::size_t i = chunk * kChunk, end = std::min(n, i + kChunk); i != end; ++i) {
-      if (packed && i + kAhead < end) __builtin_prefetch(&buffer[scratch.order[i + kAhead] & pos_mask]);
+      if (i + kAhead < end) __builtin_prefetch(&raw(i + kAhead));
       const RawContact& r = raw(i);
       ++(r.kind() == ContactKind::VertexFace ? t.vf : t.ee);
       t.earliest = std::min(t.earliest, r.toi);
