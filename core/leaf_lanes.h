@@ -93,6 +93,10 @@ class LeafLanes {
     for (std::size_t s = begin; s != end; ++s)
       quantize(grid_, swept.vertex_at(static_cast<std::uint32_t>(s)), vertices_[s]);
   }
+  /// The same for one vertex slot from its quarter volumes (during the update's pass).
+  void quantize_vertex(std::size_t slot, const QuarterVolume<BV>& quarters) {
+    quantize(grid_, quarters.whole(), vertices_[slot]);
+  }
 
   /// A new step on `grid`: every leaf's lanes are stale until filled again (ensure()).
   void begin(const Grid& grid) {

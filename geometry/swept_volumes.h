@@ -5,7 +5,7 @@
 /// A vertex moves on a segment from x0 to x1. Its quarter volumes bound the straight paths
 /// between the computed points a + (k/4)(b - a), k = 0..4, moved out (see update_vertices) so
 /// that each contains the exact part of the segment in [q/4, (q+1)/4]; its whole-step volume
-/// is the merge of its four quarter volumes. An edge's and a face's volumes (whole or per
+/// is the merge of its four quarter volumes (derived where it is read, not stored). An edge's and a face's volumes (whole or per
 /// quarter) are the merges of their vertices'. A contact at time t lies in both features'
 /// volumes of every quarter holding t, so two features can only meet in the quarters where
 /// their quarter volumes overlap.
@@ -18,9 +18,11 @@
 /// overlap, and every method reaches the pair. Whole-step tests and masks of quarters from
 /// larger volumes (`within`) are implied by the quarter test, so they only save work.
 ///
-/// Stored: per vertex its whole-step volume and its quarters. An edge's and a face's volumes
-/// are merged from their vertices' when needed (stored, an edge's quarters took more memory
-/// than all the rest, and the leaf pairs ask for few of them).
+/// Stored: per vertex its quarters only (288 bytes for the 18-DOP). Its whole-step volume is
+/// their merge, exact in float, so it is computed where it is read: storing it added half again
+/// to what the update writes every step. An edge's and a face's volumes are merged from their
+/// vertices' when needed (stored, an edge's quarters took more memory than all the rest, and
+/// the leaf pairs ask for few of them).
 /// Storage is in a layout of slots chosen by the caller (VolumeLayout: the BVH's leaf order,
 /// so that the features a leaf pair reads lie together in memory); accessors take ids, or
 /// slots where the caller already knows them.
@@ -85,7 +87,6 @@ class SweptVolumes {
         face_corner_slots_[layout_.face_slot[f]] = {vs[t[0]], vs[t[1]], vs[t[2]]};
       }
     });
-    vertex_.resize(topo.num_vertices());
     vertex_quarters_.resize(topo.num_vertices());
   }
 
@@ -93,7 +94,6 @@ class SweptVolumes {
   /// parallel loop (see first_touch in geometry/large_allocator.h).
   template <class ForChunks>
   void first_touch(const ForChunks& for_chunks) {
-    detail::first_touch(vertex_, for_chunks);
     detail::first_touch(vertex_quarters_, for_chunks);
   }
 
@@ -109,13 +109,23 @@ class SweptVolumes {
 
   /// The same by slot ranges [begin, end) of the storage, for a step where every vertex
   /// moves: the volumes are then written in storage order (sequentially, not scattered by
-  /// the layout). The same values as the updates by id.
+  /// the layout). The same values as the updates by id. `visit(slot, quarters)` is then called
+  /// for every slot of the range, updated or kept, with its volumes (a second consumer of
+  /// the step's volumes reads them while they are in cache, not in a second pass).
+  template <class Visit>
+  void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
+                           std::size_t end, const std::uint8_t* kept, const Visit& visit) {
+    for (std::size_t s = begin; s != end; ++s) {
+      if (!kept || !kept[vertex_of_slot_[s]]) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
+      visit(s, vertex_quarters_[s]);
+    }
+  }
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
                            std::size_t end, const std::uint8_t* kept = nullptr) {
-    for (std::size_t s = begin; s != end; ++s)
-      if (!kept || !kept[vertex_of_slot_[s]]) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
+    update_vertex_slots(x0, x1, min_distance, begin, end, kept, [](std::size_t, const Quarters&) {});
   }
-  const BV& vertex(std::uint32_t v) const { return vertex_[layout_.vertex_slot[v]]; }
+  /// A vertex's whole-step volume (the merge of its quarters).
+  BV vertex(std::uint32_t v) const { return vertex_at(layout_.vertex_slot[v]); }
   /// A face's whole-step volume (merged on demand from its corners').
   BV face(std::uint32_t f) const { return face_at(layout_.face_slot[f]); }
   /// An edge's whole-step volume (merged on demand).
@@ -132,12 +142,11 @@ class SweptVolumes {
   }
 
   /// The same by slot (VolumeLayout).
-  const BV& vertex_at(std::uint32_t slot) const { return vertex_[slot]; }
+  BV vertex_at(std::uint32_t slot) const { return vertex_quarters_[slot].whole(); }
   BV face_at(std::uint32_t slot) const {
-    const Triangle& c = face_corner_slots_[slot];
-    BV d = BV::merged(vertex_[c[0]], vertex_[c[1]]);
-    d.merge(vertex_[c[2]]);
-    return d;
+    Quarters q;
+    face_quarters_into(slot, q);
+    return q.whole();
   }
   const Quarters& vertex_quarters_at(std::uint32_t slot) const { return vertex_quarters_[slot]; }
   Quarters edge_quarters_at(std::uint32_t slot) const {
@@ -215,7 +224,6 @@ class SweptVolumes {
       }
     }
 #endif
-    vertex_[slot] = q.whole();
   }
 
   VolumeLayout layout_;
@@ -223,7 +231,6 @@ class SweptVolumes {
   LargeVector<Edge> edge_end_slots_;           ///< per edge slot: its ends' vertex slots
   LargeVector<Triangle> face_corner_slots_;    ///< per face slot: its corners' vertex slots
   // by slot:
-  LargeVector<BV> vertex_;                  ///< per vertex: the merge of its quarters
   LargeVector<Quarters> vertex_quarters_;   ///< per vertex: its path over the quarters
 };
 

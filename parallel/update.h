@@ -31,16 +31,23 @@ inline std::size_t vertex_grain(std::size_t vertices) { return std::clamp<std::s
 
 /// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
 /// computed once; edges' and faces' are merged from their vertices' when needed). `kept`: see
-/// SweptVolumes::update_vertices.
+/// SweptVolumes::update_vertices. `lanes` (leaf rule; nullptr: none), begun on the step's
+/// grid: every vertex's coarse volume too, in the same pass where every mesh moves, else in a
+/// second pass over all of them.
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
-                          const std::uint8_t* kept = nullptr) {
+                          const std::uint8_t* kept = nullptr, LeafLanes<BV>* lanes = nullptr) {
   const std::size_t grain = vertex_grain(topo.num_vertices());
   if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
-    // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots).
+    // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots), each slot's
+    // coarse volume from its quarters while they are in cache.
     dynamic_for(topo.num_vertices(), grain, [&](std::size_t b, std::size_t e) {
-      swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
+      if (lanes)
+        swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept,
+                                  [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
+      else
+        swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
     });
     return;
   }
@@ -51,6 +58,10 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
       swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
     });
   }
+  // A static mesh's vertices need their coarse volumes on this step's grid too.
+  if (lanes)
+    dynamic_for(topo.num_vertices(), grain,
+                [&](std::size_t b, std::size_t e) { lanes->quantize_vertices(b, e, swept); });
 }
 
 /// The box of x0 and x1 together: each chunk of vertices' own box in parallel, then merged in
@@ -95,17 +106,18 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
     dynamic_for(topo.num_vertices(), 2 * vertex_grain(topo.num_vertices()),
                 [&](std::size_t b, std::size_t e) { unchanged.compare(x0, x1, b, e); });
   const SceneTopology::Ranges& moving = scene.moving();
-  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices,
-                       unchanged.active() ? unchanged.same() : nullptr);
-  for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
+  // Leaf rule: every vertex's coarse volume on a grid that holds the step (the leaves' lanes
+  // are filled from them when a leaf pair or the self stage first needs them). The grid is
+  // fitted to the positions first, so the update's pass can quantize each volume it writes.
+  LeafLanes<BV>* lanes = nullptr;
   if (!state.lanes.empty()) {
-    // Every vertex's coarse volume on a grid that holds the step (the leaves' lanes are filled
-    // from them when a leaf pair or the self stage first needs them).
     const Bounds3 box = step_bounds(x0, x1, state.chunk_bounds);
     if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
-    dynamic_for(topo.num_vertices(), vertex_grain(topo.num_vertices()),
-                [&](std::size_t b, std::size_t e) { state.lanes.quantize_vertices(b, e, state.swept); });
+    lanes = &state.lanes;
   }
+  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices,
+                       unchanged.active() ? unchanged.same() : nullptr, lanes);
+  for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
 }
 
 }  // namespace mccd::detail
