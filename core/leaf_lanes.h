@@ -159,6 +159,8 @@ class LeafLanes {
     const std::uint32_t fb = owners.foreign_begin(node), nf = owners.foreign_begin(node + 1) - fb;
     std::int16_t* corners = values_.data() + offset_[3 * node];
     const unsigned cs = stride(nv + nf);
+    // the other corners' volumes lie elsewhere: asked for before the own ones are scattered
+    for (std::uint32_t i = 0; i < nf; ++i) __builtin_prefetch(&vertices_[owners.foreign_corner(fb + i)]);
     for (std::uint32_t j = 0; j < nv; ++j) scatter(vertices_[vb + j], corners + j, cs);
     for (std::uint32_t i = 0; i < nf; ++i) scatter(vertices_[owners.foreign_corner(fb + i)], corners + nv + i, cs);
     const std::uint8_t(*src)[kMaxLanes] = sources_[source_[node]].lane;

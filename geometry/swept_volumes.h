@@ -115,7 +115,13 @@ class SweptVolumes {
   template <class Visit>
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
                            std::size_t end, const std::uint8_t* kept, const Visit& visit) {
+    constexpr std::size_t kAhead = 8;  // positions read a few slots ahead: the layout scatters them
     for (std::size_t s = begin; s != end; ++s) {
+      if (s + kAhead < end) {
+        const std::size_t a = 3 * std::size_t(vertex_of_slot_[s + kAhead]);
+        __builtin_prefetch(x0 + a);
+        __builtin_prefetch(x1 + a);
+      }
       if (!kept || !kept[vertex_of_slot_[s]]) vertex_volumes(x0, x1, min_distance, vertex_of_slot_[s], s);
       visit(s, vertex_quarters_[s]);
     }

@@ -95,6 +95,12 @@ class RefitPlan {
 /// A leaf's quarter volumes: the merge of its corners' (owned, then the others'), each once.
 template <BoundingVolume BV>
 QuarterVolume<BV> leaf_volume(const LeafOwnership& owners, const SweptVolumes<BV>& swept, std::uint32_t node) {
+  // The other corners lie elsewhere in the storage: asked for first, merged after the leaf's
+  // own vertices (which lie together).
+  for (std::uint32_t i = owners.foreign_begin(node); i != owners.foreign_begin(node + 1); ++i) {
+    const char* p = reinterpret_cast<const char*>(&swept.vertex_quarters_at(owners.foreign_corner(i)));
+    for (std::size_t line = 0; line < sizeof(QuarterVolume<BV>); line += 64) __builtin_prefetch(p + line);
+  }
   QuarterVolume<BV> v = QuarterVolume<BV>::empty();
   for (std::uint32_t s = owners.vertex_begin(node); s != owners.vertex_begin(node + 1); ++s)
     v.merge(swept.vertex_quarters_at(s));
