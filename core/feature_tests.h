@@ -182,6 +182,11 @@ class FeatureTests {
         std::size_t nvf = 0, back = kWindow;
         for (std::size_t i = 0; i < n; ++i) {
           const std::size_t j = w[i].kind == 0 ? nvf++ : --back;
+          // the positions lie by vertex id: asked for while the window is gathered
+          for (std::uint32_t v : w[i].ids) {
+            __builtin_prefetch(x0_.data() + 3 * std::size_t(v));
+            __builtin_prefetch(x1_.data() + 3 * std::size_t(v));
+          }
           std::memcpy(ids[j], w[i].ids, sizeof(ids[j]));
           within[j] = w[i].quarters & 0xFu;
           where[j] = static_cast<std::uint16_t>(i);
