@@ -96,6 +96,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
     // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
     if (kAhead && it + kAhead < end && bvh.leaf(it[kAhead].a) && bvh.leaf(it[kAhead].b))
       touched += bvtt.leaf().touch(it[kAhead].a, it[kAhead].b);
+    if (it + 2 * kAhead < end) bvtt.prefetch(it[2 * kAhead]);  // the node volumes further ahead
     if (bvtt.culled(n, out)) {
       out.front.push_back(n);
       continue;
