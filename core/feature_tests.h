@@ -197,7 +197,10 @@ class FeatureTests {
         for (std::size_t j = 0; j < nvf; ++j) filtered[where[j]] = r[j];
         for (std::size_t j = back; j < kWindow; ++j) filtered[where[j]] = r[j];
       }
+      constexpr std::size_t kAhead = 4;  // pairs ahead whose volumes, tested after the filter, are asked for
       for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
+        if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
+          prefetch_volumes(w[i + kAhead]);
         const QueuedPair& p = w[i];
         const bool vf = p.kind == 0;
         if (filtered[i] == 0) {
@@ -235,7 +238,17 @@ class FeatureTests {
   /// against the face's; EE: edge a's against edge b's).
   unsigned volume_quarters(const QueuedPair& p) const {
     if (p.kind == 0) return swept_.vertex_quarters(p.a).overlap_mask(swept_.face_quarters({p.ids[1], p.ids[2], p.ids[3]}));
-    return swept_.edge_quarters(p.a).overlap_mask(swept_.edge_quarters(p.b));
+    // an edge's quarters from its ends' (the ids), as edge_quarters() merges them
+    return Quarters::merged(swept_.vertex_quarters(p.ids[0]), swept_.vertex_quarters(p.ids[1]))
+        .overlap_mask(Quarters::merged(swept_.vertex_quarters(p.ids[2]), swept_.vertex_quarters(p.ids[3])));
+  }
+  /// Asks for what volume_quarters(p) reads.
+  void prefetch_volumes(const QueuedPair& p) const {
+    for (std::uint32_t v : p.ids) {
+      const char* q = reinterpret_cast<const char*>(&swept_.vertex_quarters(v));
+      __builtin_prefetch(q);
+      __builtin_prefetch(q + 64);
+    }
   }
 
   /// The narrow phase of a pair past its volume tests, in the quarters `quarters`: the points
