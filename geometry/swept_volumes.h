@@ -5,10 +5,10 @@
 /// A vertex moves on a segment from x0 to x1. Its quarter volumes bound the straight paths
 /// between the computed points a + (k/4)(b - a), k = 0..4, moved out (see update_vertices) so
 /// that each contains the exact part of the segment in [q/4, (q+1)/4]; its whole-step volume
-/// is the merge of its four quarter volumes (derived where it is read, not stored). An edge's and a face's volumes (whole or per
-/// quarter) are the merges of their vertices'. A contact at time t lies in both features'
-/// volumes of every quarter holding t, so two features can only meet in the quarters where
-/// their quarter volumes overlap.
+/// is the merge of its four quarter volumes (derived where it is read, not stored). An edge's
+/// and a face's volumes (whole or per quarter) are the merges of their vertices'. A contact at
+/// time t lies in both features' volumes of every quarter holding t, so two features can only
+/// meet in the quarters where their quarter volumes overlap.
 ///
 /// Consistency invariant that makes every method return identical contacts: a feature pair
 /// reaches the elementary test only when its features' quarter volumes overlap in some
