@@ -4,10 +4,12 @@
 // coordinates, so no contact can be culled.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/swept_volumes.h>
@@ -170,5 +172,51 @@ TEST(SweptVolumes, LayoutMovesStorageNotValues) {
     EXPECT_TRUE(same(a.edge_quarters(e), b.edge_quarters(e)));
     EXPECT_TRUE(same(b.edge_quarters(e), b.edge_quarters_at(layout.edge_slot[e])));
     EXPECT_TRUE(same(b.edge_quarters(e), c.edge_quarters(e)));
+  }
+}
+
+TEST(SweptVolumes, SlotUpdateVisitsEverySlotOnceWithItsStoredQuarters) {
+  // update_vertex_slots' visitor (the update's second consumer, the leaf lanes) sees each slot
+  // of its range once, updated or kept, with the quarters as stored; the whole-step volumes
+  // read back are the merges of those quarters, slab by slab.
+  const std::vector<Triangle> faces = {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}};
+  const MeshTopology topo(5, faces);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-2, 2);
+  std::vector<double> x0(15), x1(15), y1(15);
+  for (int i = 0; i < 15; ++i) x0[i] = U(rng), x1[i] = U(rng), y1[i] = U(rng);
+  VolumeLayout layout;
+  layout.vertex_slot = {3, 0, 4, 1, 2};
+  layout.face_slot = {1, 2, 0};
+  SweptVolumes<Kdop18> s;
+  s.resize(topo, layout);
+  s.update_vertex_slots(x0.data(), x1.data(), 0.0, 0, 5);
+  // a second step in which vertex 2 (slot 4) is kept: its volumes stay those of x0 -> x1
+  const std::uint8_t kept[5] = {0, 0, 1, 0, 0};
+  std::vector<int> seen(5, 0);
+  s.update_vertex_slots(x0.data(), y1.data(), 0.0, 1, 5, kept, [&](std::size_t slot, const auto& q) {
+    ++seen[slot];
+    EXPECT_EQ(&q, &s.vertex_quarters_at(static_cast<std::uint32_t>(slot)));
+  });
+  EXPECT_EQ(seen, (std::vector<int>{0, 1, 1, 1, 1}));
+  SweptVolumes<Kdop18> fresh;
+  fresh.resize(topo, layout);
+  fresh.update_vertices(x0.data(), x1.data(), 0.0, 0, 5);
+  auto same = [](const auto& x, const auto& y) { return std::memcmp(&x, &y, sizeof(x)) == 0; };
+  EXPECT_TRUE(same(s.vertex_quarters(2), fresh.vertex_quarters(2))) << "a kept vertex was updated";
+  EXPECT_FALSE(same(s.vertex_quarters(0), fresh.vertex_quarters(0))) << "a moved vertex kept its volumes";
+  for (std::uint32_t v = 0; v < 5; ++v) {
+    const auto& q = s.vertex_quarters(v);
+    const Kdop18 whole = s.vertex(v);
+    for (int k = 0; k < Kdop18::kSlabs; ++k) {
+      EXPECT_EQ(whole.lo[k], std::min({q.lo(k)[0], q.lo(k)[1], q.lo(k)[2], q.lo(k)[3]})) << "vertex " << v;
+      EXPECT_EQ(whole.hi[k], std::max({q.hi(k)[0], q.hi(k)[1], q.hi(k)[2], q.hi(k)[3]})) << "vertex " << v;
+    }
+  }
+  for (std::uint32_t f = 0; f < 3; ++f) {
+    Kdop18 merged = s.vertex(faces[f][0]);
+    merged.merge(s.vertex(faces[f][1]));
+    merged.merge(s.vertex(faces[f][2]));
+    EXPECT_TRUE(same(s.face(f), merged)) << "face " << f;
   }
 }
