@@ -91,7 +91,7 @@ class LeafLanes {
   /// `swept` (after the step's update; before any leaf is filled).
   void quantize_vertices(std::size_t begin, std::size_t end, const SweptVolumes<BV>& swept) {
     for (std::size_t s = begin; s != end; ++s)
-      quantize(grid_, swept.vertex_at(static_cast<std::uint32_t>(s)), vertices_[s]);
+      quantize_vertex(s, swept.vertex_quarters_at(static_cast<std::uint32_t>(s)));
   }
   /// The same for one vertex slot from its quarter volumes (during the update's pass).
   void quantize_vertex(std::size_t slot, const QuarterVolume<BV>& quarters) {

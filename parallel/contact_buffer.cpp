@@ -49,18 +49,18 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
   res.contacts.resize(n);
   // Converted by chunks, each counting its kinds and its earliest time of impact (added up in
   // chunk order afterwards: counts and a minimum do not depend on it).
-  const std::size_t kChunk = std::clamp<std::size_t>(n / 64, 256, 4096);
+  const std::size_t per_chunk = std::clamp<std::size_t>(n / 64, 256, 4096);
   struct Tally {
     std::uint64_t vf = 0, ee = 0;
     double earliest = std::numeric_limits<double>::infinity();
   };
-  std::vector<Tally> tallies((n + kChunk - 1) / kChunk);
+  std::vector<Tally> tallies((n + per_chunk - 1) / per_chunk);
   auto convert = [&](std::size_t chunk) {
     Tally& t = tallies[chunk];
     // The packed order reads the buffer at random: each record a cache miss unless asked for
     // ahead (16 records ahead hid most of the latency).
     constexpr std::size_t kAhead = 16;
-    for (std::size_t i = chunk * kChunk, end = std::min(n, i + kChunk); i != end; ++i) {
+    for (std::size_t i = chunk * per_chunk, end = std::min(n, i + per_chunk); i != end; ++i) {
       if (i + kAhead < end) __builtin_prefetch(&raw(i + kAhead));
       const RawContact& r = raw(i);
       ++(r.kind() == ContactKind::VertexFace ? t.vf : t.ee);

@@ -85,9 +85,9 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
   // and 8 or more keys a bucket: the serial pass over the counts (buckets x chunks) stays short.
   const unsigned top = std::min({bits, 11u, std::max(position_bits(n), 7u) - 3}), shift = bits - top;
   const std::size_t nb = std::size_t(1) << top;
-  const std::size_t kChunk =
+  const std::size_t per_chunk =
       n > kParallelJoin ? std::clamp<std::size_t>(n / 16, 512, 16384) : std::max<std::size_t>(n, 1);
-  const std::size_t nc = std::max<std::size_t>(1, (n + kChunk - 1) / kChunk);
+  const std::size_t nc = std::max<std::size_t>(1, (n + per_chunk - 1) / per_chunk);
   // Each chunk's counts lie a row of nb + 16 apart: rows a power of two apart (4 KiB or more)
   // all map to the same cache sets, and the serial pass down a column ran 7x slower.
   const std::size_t row = nb + 16;
@@ -96,13 +96,13 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
   slot.assign(nc * row + nb + 1, 0);
   std::uint32_t* const start = slot.data() + nc * row;
   auto count = [&](std::size_t c) {
-    const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
+    const std::size_t b = c * per_chunk, e = std::min(n, b + per_chunk);
     std::uint32_t* h = slot.data() + c * row;
     KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
     for (std::size_t i = b; i < e; ++i, ++k) ++h[packed(*k, i) >> shift];
   };
   auto scatter = [&](std::size_t c) {
-    const std::size_t b = c * kChunk, e = std::min(n, b + kChunk);
+    const std::size_t b = c * per_chunk, e = std::min(n, b + per_chunk);
     std::uint32_t* next = slot.data() + c * row;
     KeyIterator k = keys + static_cast<std::ptrdiff_t>(b);
     for (std::size_t i = b; i < e; ++i, ++k) {
