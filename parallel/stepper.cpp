@@ -142,7 +142,7 @@ void Stepper<BV>::update() {
   const bool compare = full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf;
   update_stage(scene_, x0_, x1_, options_.min_distance, compare, unchanged_, volumes_, result_.stats);
   result_.stats.t_update = clock.seconds();
-  result_.stats.ws_update = clock.work_span();
+  result_.stats.ws_update = clock.work_span(result_.stats.t_update);
 }
 
 template <BoundingVolume BV>
@@ -152,7 +152,7 @@ void Stepper<BV>::refit() {
   refit_stage(refit_plan_, bvh_, owners_, volumes_.swept, unchanged_, nodes_, method_ != Method::BruteForce, culling_,
               scene_.topology(), x0_, x1_, result_.stats);
   result_.stats.t_refit = clock.seconds();
-  result_.stats.ws_refit = clock.work_span();
+  result_.stats.ws_refit = clock.work_span(result_.stats.t_refit);
 }
 
 template <BoundingVolume BV>
@@ -162,7 +162,7 @@ void Stepper<BV>::search() {
   auto oracle = [&](WorkerOutput& out) { brute_force(scene_, bvh_, nodes_, volumes_.swept, tests_, out); };
   search_.run(method_, query_.kind(), bvtt_, oracle, contacts_, result_.stats);
   result_.stats.t_front = clock.seconds();
-  result_.stats.ws_search = clock.work_span();
+  result_.stats.ws_search = clock.work_span(result_.stats.t_front);
 }
 
 template <BoundingVolume BV>
@@ -172,7 +172,7 @@ void Stepper<BV>::self() {
   const StageClock clock(options_.work_span ? &recorder : nullptr);
   self_.run(leaf_, contacts_, self_stats_);
   self_stats_.t_self = clock.seconds();
-  self_stats_.ws_self = clock.work_span();
+  self_stats_.ws_self = clock.work_span(self_stats_.t_self);
 }
 
 template <BoundingVolume BV>
@@ -186,7 +186,7 @@ void Stepper<BV>::join() {
                   graph_run_ ? std::max(st.ws_search.span, st.ws_self.span) : st.ws_search.span + st.ws_self.span};
   join_contacts(contacts_, join_scratch_, scene_, result_);
   st.t_contacts = clock.seconds();
-  st.ws_join = clock.work_span();
+  st.ws_join = clock.work_span(st.t_contacts);
 }
 
 template class Stepper<Kdop18>;

@@ -165,8 +165,10 @@ class StageClock {
   StageClock(const StageClock&) = delete;
   StageClock& operator=(const StageClock&) = delete;
   double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
-  /// The stage's work and span so far (zero when not measured).
-  WorkSpan work_span() const { return recorder_ ? recorder_->finish(seconds()) : WorkSpan{}; }
+  /// The stage's work and span (zero when not measured), given its wall time as read from
+  /// seconds(): the one read the stage's time and its work share, so that at one thread the
+  /// work never exceeds that time.
+  WorkSpan work_span(double wall) const { return recorder_ ? recorder_->finish(wall) : WorkSpan{}; }
 
  private:
   WorkSpanRecorder* recorder_;
