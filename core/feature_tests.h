@@ -111,8 +111,10 @@ class FeatureTests {
   /// Feature pairs past their volume tests wait in out.queued, and run_queued() sends them to
   /// the narrow phase together, in order: most are pairs that the coplanarity filter removes,
   /// and the filter runs for several pairs at a time in vector registers first
-  /// (LaneKernels::coplanar_quarters: its own values), only the pairs it keeps going through
-  /// the narrow phase one by one (which runs the filter again, to the same result).
+  /// (LaneKernels::coplanar_quarters: its own values); in a full step so does the elementary
+  /// tests' fast path for the pairs it keeps (LaneKernels::fast_tests), and only the pairs
+  /// that path leaves open go through the narrow phase one by one (which runs the filter
+  /// again, to the same result).
   static constexpr std::size_t kQueue = 256;
 
   /// Whether run_queued() runs the coplanarity filter for several queued pairs at a time in
@@ -161,24 +163,34 @@ class FeatureTests {
   }
 
   /// The narrow phase of every queued pair, in order (until the query stops); found(leaf_a,
-  /// leaf_b) for each pair that adds a contact.
+  /// leaf_b) for each pair that adds a contact. In a full step the fast path of the elementary
+  /// tests runs for several pairs at a time too (LaneKernels::fast_tests), for the pairs whose
+  /// filter the vector filter decided; what it leaves open goes through the narrow phase one
+  /// by one. The contacts, their order and every count are those of the narrow phase alone.
   template <class Found>
   void run_queued(WorkerOutput& out, const Found& found) const {
     std::vector<QueuedPair>& q = out.queued;
     const bool prefilter = prefilters();
+    const bool batch = prefilter && query_.kind() == StepKind::Full;
     constexpr std::size_t kWindow = 2 * kQueue;
     std::uint8_t filtered[kWindow];  // the filter's result, or kUndecided
+    // each kind's pairs together (the vertex-face pairs from the front of the arrays, the
+    // edge-edge pairs from the back): their ids, their quarters, where they are in the window
+    std::uint32_t ids[kWindow][4];
+    std::uint8_t within[kWindow], r[kWindow];
+    std::uint16_t where[kWindow];
+    // batch: what each pair needs (kSkip, kNarrow, kFast), its quarters, the fast path's
+    // decision and time of impact
+    enum : std::uint8_t { kSkip, kNarrow, kFast };
+    std::uint8_t action[kWindow], quarters_at[kWindow], decided[kWindow];
+    double toi_at[kWindow], toi_lanes[kWindow];
     for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
       const std::size_t n = std::min(kWindow, q.size() - first);
       const QueuedPair* w = q.data() + first;
       std::fill(filtered, filtered + n, kUndecided);
       if (prefilter) {
-        // each kind's pairs together, their ids and quarters gathered in one pass: the
-        // vertex-face pairs from the front of the arrays, the edge-edge pairs from the back (the
-        // filter decides each pair on its own, in any order)
-        std::uint32_t ids[kWindow][4];
-        std::uint8_t within[kWindow], r[kWindow];
-        std::uint16_t where[kWindow];
+        // ids and quarters gathered in one pass (the filter decides each pair on its own, in
+        // any order)
         std::size_t nvf = 0, back = kWindow;
         for (std::size_t i = 0; i < n; ++i) {
           const std::size_t j = w[i].kind == 0 ? nvf++ : --back;
@@ -198,30 +210,60 @@ class FeatureTests {
         for (std::size_t j = back; j < kWindow; ++j) filtered[where[j]] = r[j];
       }
       constexpr std::size_t kAhead = 4;  // pairs ahead whose volumes, tested after the filter, are asked for
+      if (batch) {
+        // what each pair needs, and the fast path for those the vector filter decided
+        std::size_t nvf = 0, back = kWindow;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
+            prefetch_volumes(w[i + kAhead]);
+          action[i] = kSkip;
+          const unsigned quarters = kept_quarters(w[i], filtered[i], out);
+          if (!quarters) continue;
+          quarters_at[i] = static_cast<std::uint8_t>(quarters);
+          if (!known(w[i], filtered[i], quarters)) {
+            action[i] = kNarrow;
+            continue;
+          }
+          if (!(filtered[i] & quarters)) {  // what narrow() finds and counts at once
+            ++(w[i].kind == 0 ? out.stats.vf_filtered : out.stats.ee_filtered);
+            continue;
+          }
+          action[i] = kFast;
+          const std::size_t j = w[i].kind == 0 ? nvf++ : --back;
+          std::memcpy(ids[j], w[i].ids, sizeof(ids[j]));
+          where[j] = static_cast<std::uint16_t>(i);
+        }
+        const std::size_t nee = kWindow - back;
+        if (nvf) lane_kernels().fast_tests(true, x0_.data(), x1_.data(), ids, nvf, r, toi_lanes);
+        if (nee) lane_kernels().fast_tests(false, x0_.data(), x1_.data(), ids + back, nee, r + back, toi_lanes + back);
+        for (std::size_t j = 0; j < nvf; ++j) decided[where[j]] = r[j], toi_at[where[j]] = toi_lanes[j];
+        for (std::size_t j = back; j < kWindow; ++j) decided[where[j]] = r[j], toi_at[where[j]] = toi_lanes[j];
+        for (std::size_t i = 0; i < n; ++i) {
+          if (action[i] == kSkip) continue;
+          const QueuedPair& p = w[i];
+          const bool vf = p.kind == 0;
+          const std::size_t before = out.contacts.size();
+          if (action[i] == kFast && decided[i] != kFastOpen)
+            fast_decided(p, filtered[i] & quarters_at[i], decided[i] == kFastHit, toi_at[i], out);
+          else
+            narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b, vf ? ContactKind::VertexFace : ContactKind::EdgeEdge,
+                   quarters_at[i], out, action[i] == kFast ? filtered[i] : kUndecided);
+          if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+        }
+        continue;
+      }
       for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
         if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
           prefetch_volumes(w[i + kAhead]);
         const QueuedPair& p = w[i];
-        const bool vf = p.kind == 0;
-        if (filtered[i] == 0) {
-          ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
-          continue;
-        }
-        unsigned quarters = p.quarters & 0xFu;
-        if (p.quarters & kVolumesPending) {
-          quarters = volume_quarters(p);
-          if (!quarters) continue;  // the volumes never meet in a common quarter
-          if (filtered[i] != kUndecided && !(filtered[i] & quarters)) {
-            ++(vf ? out.stats.vf_filtered : out.stats.ee_filtered);
-            continue;
-          }
-        }
+        const unsigned quarters = kept_quarters(p, filtered[i], out);
+        if (!quarters) continue;
         const std::size_t before = out.contacts.size();
         // The filter's own result for the quarters the vector filter was asked (those of the
         // queued pair, holding the pair's own): not computed twice.
-        const bool known = filtered[i] != kUndecided && !(quarters & ~(p.quarters & 0xFu));
         narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
-               vf ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out, known ? filtered[i] : kUndecided);
+               p.kind == 0 ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out,
+               known(p, filtered[i], quarters) ? filtered[i] : kUndecided);
         if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
       }
     }
@@ -234,6 +276,48 @@ class FeatureTests {
   }
 
  private:
+  /// The quarters in which queued pair p goes to the narrow phase (0: none, the pair's counts
+  /// made), `filtered` the vector filter's result for it (or kUndecided): its own quarter
+  /// volumes' when they are pending, and none when the filter clears those.
+  unsigned kept_quarters(const QueuedPair& p, std::uint8_t filtered, WorkerOutput& out) const {
+    if (filtered == 0) {
+      ++(p.kind == 0 ? out.stats.vf_filtered : out.stats.ee_filtered);  // what narrow() counts for it
+      return 0;
+    }
+    unsigned quarters = p.quarters & 0xFu;
+    if (p.quarters & kVolumesPending) {
+      quarters = volume_quarters(p);
+      if (!quarters) return 0;  // the volumes never meet in a common quarter
+      if (filtered != kUndecided && !(filtered & quarters)) {
+        ++(p.kind == 0 ? out.stats.vf_filtered : out.stats.ee_filtered);
+        return 0;
+      }
+    }
+    return quarters;
+  }
+  /// Whether the vector filter's result for p holds `quarters` (those it was asked for hold
+  /// them): the narrow phase then takes it instead of running the filter again.
+  static bool known(const QueuedPair& p, std::uint8_t filtered, unsigned quarters) {
+    return filtered != kUndecided && !(quarters & ~(p.quarters & 0xFu));
+  }
+  /// What narrow() does for pair p, known to the vector filter with `kept` quarters (not 0),
+  /// when the fast path decided it (LaneKernels::fast_tests): `hit` with `toi`, or no contact;
+  /// the same counts as the test's (FilteredCcd::test and its fast path).
+  void fast_decided(const QueuedPair& p, unsigned kept, bool hit_found, double toi, WorkerOutput& out) const {
+    const bool vf = p.kind == 0;
+    const ContactKind kind = vf ? ContactKind::VertexFace : ContactKind::EdgeEdge;
+    const RawContact pair{RawContact::make_key(kind, p.a, p.b), 0.25 * std::countr_zero(kept),
+                          {p.ids[0], p.ids[1], p.ids[2], p.ids[3]}};
+    ++(vf ? out.stats.vf_tests : out.stats.ee_tests);
+    CcdCounters& c = vf ? out.stats.vf_ccd : out.stats.ee_ccd;
+    ++c.queries, ++c.root_tests;
+    if (!hit_found) {
+      ++c.fast_misses;
+      return;
+    }
+    ++c.fast_hits, ++c.hits;
+    hit(pair, std::max(toi, pair.toi), out);
+  }
   /// The quarters in which a queued pair's own quarter volumes overlap (VF: the vertex's
   /// against the face's; EE: edge a's against edge b's).
   unsigned volume_quarters(const QueuedPair& p) const {

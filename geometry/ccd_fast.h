@@ -39,6 +39,11 @@
 ///     zero" span); usually [a, b] lies in one grid cell and no extra evaluation is needed.
 /// Every root rejected (or none at all): Miss. Nothing here reports a pair the search would
 /// not (a certified contact is a true contact), so false positives can only go down.
+///
+/// The engine runs the simplest case (one sign change on [0, 1], no bisection for the time)
+/// for several queries at once with the same operations in the same order
+/// (LaneKernels::fast_tests, geometry/lane_masks_kernels.inl): a change of an operation or a
+/// bound here is a change there (tests/geometry/test_lane_fast.cpp compares them).
 #include <bit>
 #include <cstdint>
 

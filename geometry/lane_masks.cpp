@@ -16,11 +16,13 @@
 #endif
 
 #if defined(__GNUC__) && !defined(__clang__)
-// GCC notes that the kernels' lambdas return vector registers under a wider instruction set
-// than the file's (-Wpsabi): they are inlined into their kernel, no such call crosses an ABI.
+// GCC notes that the kernels' lambdas and helpers return vector registers under a wider
+// instruction set than the file's (-Wpsabi): they are inlined into their kernel, no such call
+// crosses an ABI.
 // GCC 12 also reads _mm512_undefined_* in its own headers as uninitialized (its bug 105593).
 #pragma GCC diagnostic ignored "-Wpsabi"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 
 namespace mccd::detail {
@@ -82,6 +84,11 @@ struct DOps {
   static V neg(V a) { return -a; }
   static unsigned gt(V a, V b) { return a > b; }
   static unsigned ge(V a, V b) { return a >= b; }
+  static unsigned eq(V a, V b) { return a == b; }
+  static void store(double* p, V a) { *p = a; }
+  static V select(unsigned bits, V a, V b) { return bits & 1u ? a : b; }
+  static V floor_nonneg(V a) { return static_cast<double>(static_cast<std::int64_t>(a)); }
+  static V exponent(V a) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & 0x7ff0000000000000ull); }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_scalar
@@ -123,6 +130,19 @@ struct DOps {
   static V neg(V a) { return _mm_xor_pd(_mm_set1_pd(-0.0), a); }
   static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpgt_pd(a, b))); }
   static unsigned ge(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(a, b))); }
+  static unsigned eq(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpeq_pd(a, b))); }
+  static void store(double* p, V a) { _mm_store_pd(p, a); }
+  static V select(unsigned bits, V a, V b) {
+    const V m = _mm_castsi128_pd(_mm_set_epi64x(bits & 2u ? -1 : 0, bits & 1u ? -1 : 0));
+    return _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b));
+  }
+  /// floor(a) for a in [0, 2^62], lane by lane as the scalar code (SSE2 rounds to int32 only)
+  static V floor_nonneg(V a) {
+    alignas(16) double x[2];
+    _mm_store_pd(x, a);
+    return _mm_set_pd(static_cast<double>(static_cast<std::int64_t>(x[1])), static_cast<double>(static_cast<std::int64_t>(x[0])));
+  }
+  static V exponent(V a) { return _mm_and_pd(a, _mm_castsi128_pd(_mm_set1_epi64x(0x7ff0000000000000LL))); }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_sse2
@@ -173,6 +193,16 @@ struct DOps {
   static V neg(V a) { return _mm256_xor_pd(_mm256_set1_pd(-0.0), a); }
   static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GT_OQ))); }
   static unsigned ge(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GE_OQ))); }
+  static unsigned eq(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_EQ_OQ))); }
+  static void store(double* p, V a) { _mm256_store_pd(p, a); }
+  static V select(unsigned bits, V a, V b) {
+    const __m256i lane = _mm256_set_epi64x(8, 4, 2, 1);
+    const __m256i m = _mm256_cmpeq_epi64(_mm256_and_si256(_mm256_set1_epi64x(bits), lane), lane);
+    return _mm256_blendv_pd(b, a, _mm256_castsi256_pd(m));
+  }
+  /// floor(a) for a >= 0 (exact: the value the scalar code's cast to int64 gives below 2^62)
+  static V floor_nonneg(V a) { return _mm256_round_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  static V exponent(V a) { return _mm256_and_pd(a, _mm256_castsi256_pd(_mm256_set1_epi64x(0x7ff0000000000000LL))); }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
@@ -247,6 +277,12 @@ struct DOps {
   }
   static unsigned gt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
   static unsigned ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+  static unsigned eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
+  static void store(double* p, V a) { _mm512_store_pd(p, a); }
+  static V select(unsigned bits, V a, V b) { return _mm512_mask_blend_pd(static_cast<__mmask8>(bits), b, a); }
+  /// floor(a) for a >= 0 (exact: the value the scalar code's cast to int64 gives below 2^62)
+  static V floor_nonneg(V a) { return _mm512_roundscale_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  static V exponent(V a) { return bits_op<false>(a, 0x7ff0000000000000LL); }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx512

@@ -33,6 +33,8 @@ inline constexpr unsigned kLaneSlack = 64;
 inline constexpr unsigned kMaxLanes = 64;
 /// LaneKernels::coplanar_quarters of a query it leaves to the filter itself.
 inline constexpr std::uint8_t kUndecided = 0xFF;
+/// LaneKernels::fast_tests: no contact, a certified contact, or left to the scalar test.
+inline constexpr std::uint8_t kFastMiss = 0, kFastHit = 1, kFastOpen = 2;
 
 /// One coarse k-DOP of at most 16 slabs on its own, for the kernels to test against blocks: its
 /// lower bounds lo[0..slabs), its upper bounds hi[0..slabs) (the rest unused).
@@ -90,6 +92,16 @@ struct LaneKernels {
   /// points' largest coordinate is in [2^-60, 2^60] (no scaling); kUndecided otherwise.
   void (*coplanar_quarters)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
                             const std::uint8_t* within, std::size_t n, std::uint8_t* quarters);
+  /// The fast path of the elementary test (geometry/ccd_fast.h) for `n` queries of one kind
+  /// without a minimum distance, given as for coplanar_quarters, where it is simplest: a cubic
+  /// with exactly one sign change on [0, 1] by Descartes' rule, its root bracketed, and a time
+  /// of impact needing no bisection. decided[i] is kFastMiss, kFastHit (toi[i] set) or
+  /// kFastOpen: whatever the scalar fast path would decide otherwise (a split, a bisection,
+  /// the separation test), and points whose largest coordinate is outside [2^-60, 2^60], is
+  /// left open. A decided query has the scalar test's answer and time of impact bit for bit:
+  /// the same operations in the same order, a query per lane.
+  void (*fast_tests)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
+                     std::size_t n, std::uint8_t* decided, double* toi);
   SimdLevel level;
 };
 

@@ -133,73 +133,117 @@ void merge_lanes(const std::int16_t* rows, unsigned stride, unsigned slabs, cons
   Ops::merge(rows, stride, slabs, sources, k, n, out, out_stride);
 }
 
-// The coplanarity cubic of geometry/ccd_stages.h (both_times::coplanarity, cubic_of and
-// coplanarity_of), one query per lane of `D` (DOps: W doubles). Every operation is the scalar
-// code's, in its order: sums of products as (x + y) + z, differences as written, the cross
-// product's components as a.y * b.z - a.z * b.y and so on, the bound as
-// (96 u) * ((alpha * beta) * gamma) + 2^-800.
+// Vectors of three coordinates, one query per lane of DOps (W doubles), and the scalar code's
+// vector operations (geometry/ccd_bernstein.h) in its order: sums of products as (x + y) + z,
+// differences as written, the cross product's components as a.y * b.z - a.z * b.y and so on.
+struct P3 {
+  DOps::V x, y, z;
+};
+inline P3 sub3(const P3& a, const P3& b) { return {DOps::sub(a.x, b.x), DOps::sub(a.y, b.y), DOps::sub(a.z, b.z)}; }
+inline P3 add3(const P3& a, const P3& b) { return {DOps::add(a.x, b.x), DOps::add(a.y, b.y), DOps::add(a.z, b.z)}; }
+inline P3 scale3(const P3& a, DOps::V s) { return {DOps::mul(a.x, s), DOps::mul(a.y, s), DOps::mul(a.z, s)}; }
+inline P3 abs3(const P3& a) { return {DOps::abs(a.x), DOps::abs(a.y), DOps::abs(a.z)}; }
+inline P3 cross3(const P3& a, const P3& b) {
+  using D = DOps;
+  return {D::sub(D::mul(a.y, b.z), D::mul(a.z, b.y)), D::sub(D::mul(a.z, b.x), D::mul(a.x, b.z)),
+          D::sub(D::mul(a.x, b.y), D::mul(a.y, b.x))};
+}
+/// geometry/ccd_bernstein.h's across: the cross product's terms added instead of subtracted
+inline P3 across3(const P3& a, const P3& b) {
+  using D = DOps;
+  return {D::add(D::mul(a.y, b.z), D::mul(a.z, b.y)), D::add(D::mul(a.z, b.x), D::mul(a.x, b.z)),
+          D::add(D::mul(a.x, b.y), D::mul(a.y, b.x))};
+}
+inline DOps::V dot3(const P3& a, const P3& b) {
+  using D = DOps;
+  return D::add(D::add(D::mul(a.x, b.x), D::mul(a.y, b.y)), D::mul(a.z, b.z));
+}
+inline DOps::V amax3(const P3& a) { return DOps::max(DOps::max(DOps::abs(a.z), DOps::abs(a.y)), DOps::abs(a.x)); }
+/// (1 - tau) a0 + tau a1 as the scalar snapshots compute it: a0 * t1 + a1 * tau
+inline P3 lerp3(const P3& a0, const P3& a1, DOps::V t1, DOps::V tau) { return add3(scale3(a0, t1), scale3(a1, tau)); }
+
+/// The points of up to W queries (ids[0..m), the rest repeating the first) at t = 0 and t = 1.
+struct LanePoints {
+  P3 p[2][4];
+};
+inline void gather(const double* x0, const double* x1, const std::uint32_t (*ids)[4], unsigned m, LanePoints& out) {
+  constexpr unsigned W = DOps::kLanes;
+  alignas(64) double buf[2][4][3][W];
+  for (unsigned i = 0; i < W; ++i) {
+    const std::uint32_t* q = ids[i < m ? i : 0];
+    for (unsigned k = 0; k < 4; ++k)
+      for (unsigned c = 0; c < 3; ++c) {
+        buf[0][k][c][i] = x0[3 * std::size_t(q[k]) + c];
+        buf[1][k][c][i] = x1[3 * std::size_t(q[k]) + c];
+      }
+  }
+  for (unsigned t = 0; t < 2; ++t)
+    for (unsigned k = 0; k < 4; ++k)
+      out.p[t][k] = P3{DOps::load(buf[t][k][0]), DOps::load(buf[t][k][1]), DOps::load(buf[t][k][2])};
+}
+
+/// The coplanarity cubic of geometry/ccd_stages.h (both_times::coplanarity, cubic_of and
+/// coplanarity_of) per lane, with what stage (c) reads of the Setup: the difference vectors
+/// A, B, C at t = 0 and 1 (VF: corners minus the vertex; EE: da, db, w), their magnitudes, the
+/// cubic's Bernstein coefficients and its bound (96 u) * ((alpha * beta) * gamma) + 2^-800,
+/// and the points' largest absolute coordinate.
+struct LaneCubic {
+  P3 A[2], B[2], C[2];
+  DOps::V alpha, beta, gamma, f[4], ef, mx;
+};
+template <bool VF>
+void cubic_lanes(const LanePoints& pts, LaneCubic& q) {
+  using D = DOps;
+  q.mx = D::zero();
+  for (unsigned t = 0; t < 2; ++t)
+    for (unsigned k = 0; k < 4; ++k) q.mx = D::max(q.mx, amax3(pts.p[t][k]));
+  for (unsigned t = 0; t < 2; ++t) {
+    const P3* p = pts.p[t];
+    q.A[t] = sub3(p[1], p[0]);
+    if constexpr (VF) {
+      q.B[t] = sub3(p[2], p[0]);
+      q.C[t] = sub3(p[3], p[0]);
+    } else {
+      q.B[t] = sub3(p[3], p[2]);
+      q.C[t] = sub3(p[2], p[0]);
+    }
+  }
+  // VF: X = B x C, a = A; EE: X = A x B, a = C. Xts: the cross product of time t's first
+  // factor and time s's second.
+  const P3* U = VF ? q.B : q.A;
+  const P3* Vv = VF ? q.C : q.B;
+  const P3* a = VF ? q.A : q.C;
+  const P3 X00 = cross3(U[0], Vv[0]), X11 = cross3(U[1], Vv[1]), X01 = cross3(U[0], Vv[1]), X10 = cross3(U[1], Vv[0]);
+  const P3 Xs = add3(X01, X10);
+  const auto three = D::set1(3.0);
+  q.f[0] = dot3(a[0], X00), q.f[3] = dot3(a[1], X11);
+  q.f[1] = D::div(D::add(dot3(a[0], Xs), dot3(a[1], X00)), three);
+  q.f[2] = D::div(D::add(dot3(a[1], Xs), dot3(a[0], X11)), three);
+  q.alpha = D::max(amax3(q.A[0]), amax3(q.A[1]));
+  q.beta = D::max(amax3(q.B[0]), amax3(q.B[1]));
+  q.gamma = D::max(amax3(q.C[0]), amax3(q.C[1]));
+  q.ef = D::add(D::mul(D::set1(96 * 0x1p-53), D::mul(D::mul(q.alpha, q.beta), q.gamma)), D::set1(0x1p-800));
+}
+
+/// The lanes whose points need no scaling (largest coordinate in [2^-60, 2^60]: `load` of
+/// geometry/ccd_setup.h keeps them as they are).
+inline unsigned in_range(const LaneCubic& q) {
+  return DOps::ge(q.mx, DOps::set1(0x1p-60)) & DOps::ge(DOps::set1(0x1p60), q.mx);
+}
+
 template <bool VF>
 void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4],
                           const std::uint8_t* within, std::size_t n, std::uint8_t* quarters) {
   using D = DOps;
   using V = typename D::V;
   constexpr unsigned W = D::kLanes;
-  struct P3 {
-    V x, y, z;
-  };
-  auto sub = [](const P3& a, const P3& b) { return P3{D::sub(a.x, b.x), D::sub(a.y, b.y), D::sub(a.z, b.z)}; };
-  auto add = [](const P3& a, const P3& b) { return P3{D::add(a.x, b.x), D::add(a.y, b.y), D::add(a.z, b.z)}; };
-  auto cross = [](const P3& a, const P3& b) {
-    return P3{D::sub(D::mul(a.y, b.z), D::mul(a.z, b.y)), D::sub(D::mul(a.z, b.x), D::mul(a.x, b.z)),
-              D::sub(D::mul(a.x, b.y), D::mul(a.y, b.x))};
-  };
-  auto dot = [](const P3& a, const P3& b) {
-    return D::add(D::add(D::mul(a.x, b.x), D::mul(a.y, b.y)), D::mul(a.z, b.z));
-  };
-  auto amax = [](const P3& a) { return D::max(D::max(D::abs(a.z), D::abs(a.y)), D::abs(a.x)); };
-  alignas(64) double buf[2][4][3][W];
   for (std::size_t first = 0; first < n; first += W) {
     const unsigned m = static_cast<unsigned>(n - first < W ? n - first : W);
-    for (unsigned i = 0; i < W; ++i) {
-      const std::uint32_t* q = ids[first + (i < m ? i : 0)];
-      for (unsigned k = 0; k < 4; ++k)
-        for (unsigned c = 0; c < 3; ++c) {
-          buf[0][k][c][i] = x0[3 * std::size_t(q[k]) + c];
-          buf[1][k][c][i] = x1[3 * std::size_t(q[k]) + c];
-        }
-    }
-    P3 p[2][4];
-    V mx = D::zero();
-    for (unsigned t = 0; t < 2; ++t)
-      for (unsigned k = 0; k < 4; ++k) {
-        p[t][k] = P3{D::load(buf[t][k][0]), D::load(buf[t][k][1]), D::load(buf[t][k][2])};
-        mx = D::max(mx, amax(p[t][k]));
-      }
-    P3 A[2], B[2], C[2];
-    for (unsigned t = 0; t < 2; ++t) {
-      A[t] = sub(p[t][1], p[t][0]);
-      if constexpr (VF) {
-        B[t] = sub(p[t][2], p[t][0]);
-        C[t] = sub(p[t][3], p[t][0]);
-      } else {
-        B[t] = sub(p[t][3], p[t][2]);
-        C[t] = sub(p[t][2], p[t][0]);
-      }
-    }
-    // VF: X = B x C, a = A; EE: X = A x B, a = C. Xts: the cross product of time t's first
-    // factor and time s's second.
-    const P3* U = VF ? B : A;
-    const P3* Vv = VF ? C : B;
-    const P3* a = VF ? A : C;
-    const P3 X00 = cross(U[0], Vv[0]), X11 = cross(U[1], Vv[1]), X01 = cross(U[0], Vv[1]), X10 = cross(U[1], Vv[0]);
-    const P3 Xs = add(X01, X10);
-    const V c0 = dot(a[0], X00), c3 = dot(a[1], X11);
-    const V three = D::set1(3.0);
-    const V c1 = D::div(D::add(dot(a[0], Xs), dot(a[1], X00)), three);
-    const V c2 = D::div(D::add(dot(a[1], Xs), dot(a[0], X11)), three);
-    const V alpha = D::max(amax(A[0]), amax(A[1])), beta = D::max(amax(B[0]), amax(B[1])),
-            gamma = D::max(amax(C[0]), amax(C[1]));
-    const V ef = D::add(D::mul(D::set1(96 * 0x1p-53), D::mul(D::mul(alpha, beta), gamma)), D::set1(0x1p-800));
+    LanePoints pts;
+    gather(x0, x1, ids + first, m, pts);
+    LaneCubic q;
+    cubic_lanes<VF>(pts, q);
+    const V ef = q.ef;
     // definite_sign(b, thr) != 0 of geometry/ccd_bernstein.h, per lane
     auto definite = [](const V (&b)[4], V thr) {
       const V nthr = D::neg(thr);
@@ -219,7 +263,7 @@ void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_
       const V mag = D::max(D::max(D::max(D::max(D::zero(), D::abs(b[0])), D::abs(b[1])), D::abs(b[2])), D::abs(b[3]));
       return D::add(D::add(err, D::mul(grow, mag)), tiny);
     };
-    const V f[4] = {c0, c1, c2, c3};
+    const V f[4] = {q.f[0], q.f[1], q.f[2], q.f[3]};
     // FilteredCcd::filter for the points in range (no minimum distance): 0 when the whole
     // cubic is of one sign, else quarters_of (geometry/ccd.cpp): each half of one sign
     // dropped, each quarter of the others kept unless of one sign, among the quarters asked for
@@ -229,11 +273,11 @@ void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_
     const V eh = split(f, ef, h[0], h[1]);
     for (unsigned i = 0; i < 2; ++i) {
       const unsigned hd = definite(h[i], eh);
-      V q[2][4];
-      const V eq = split(h[i], eh, q[0], q[1]);
-      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite(q[j], eq);
+      V qh[2][4];
+      const V eq = split(h[i], eh, qh[0], qh[1]);
+      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite(qh[j], eq);
     }
-    const unsigned range = D::ge(mx, D::set1(0x1p-60)) & D::ge(D::set1(0x1p60), mx);
+    const unsigned range = in_range(q);
     for (unsigned i = 0; i < m; ++i) {
       const std::uint8_t asked = within[first + i];
       std::uint8_t qs = 0;
@@ -251,4 +295,170 @@ void coplanar_quarters(bool vertex_face, const double* x0, const double* x1, con
     coplanar_quarters_of<false>(x0, x1, ids, within, n, quarters);
 }
 
-const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, Ops::kLevel};
+/// The cubic and the inside functions at the instant tau per lane: KindOps::snapshot of
+/// geometry/ccd_stages.h (vertex_face::snapshot, edge_edge::snapshot). EE reads the
+/// separation pairs D[1] (b0 - a1) and D[2] (b1 - a0) at t = 0 and 1 (`v`, `z`).
+struct LaneSnap {
+  DOps::V f, g[4];
+};
+template <bool VF>
+LaneSnap snapshot_lanes(const LaneCubic& q, const P3 (&v)[2], const P3 (&z)[2], DOps::V tau) {
+  using D = DOps;
+  const DOps::V t1 = D::sub(D::set1(1.0), tau);
+  LaneSnap s;
+  if constexpr (VF) {
+    const P3 A = lerp3(q.A[0], q.A[1], t1, tau), B = lerp3(q.B[0], q.B[1], t1, tau), C = lerp3(q.C[0], q.C[1], t1, tau);
+    const P3 X = cross3(B, C), Y = cross3(C, A), Z = cross3(A, B);
+    const P3 n = add3(add3(X, Y), Z);
+    s.f = dot3(A, X);
+    s.g[0] = dot3(n, X), s.g[1] = dot3(n, Y), s.g[2] = dot3(n, Z), s.g[3] = D::zero();
+  } else {
+    const P3 da = lerp3(q.A[0], q.A[1], t1, tau), db = lerp3(q.B[0], q.B[1], t1, tau), w = lerp3(q.C[0], q.C[1], t1, tau);
+    const P3 vv = lerp3(v[0], v[1], t1, tau), zz = lerp3(z[0], z[1], t1, tau);
+    const P3 e = cross3(da, db);
+    s.f = dot3(w, e);
+    s.g[0] = dot3(cross3(w, db), e), s.g[1] = D::neg(dot3(cross3(vv, db), e));
+    s.g[2] = dot3(cross3(w, da), e), s.g[3] = dot3(cross3(da, zz), e);
+  }
+  return s;
+}
+
+/// KindOps::f_error: 16 u times the triple product's magnitude at tau, plus 2^-800.
+inline DOps::V f_error_lanes(const LaneCubic& q, DOps::V tau) {
+  using D = DOps;
+  const DOps::V t1 = D::sub(D::set1(1.0), tau);
+  const P3 A = lerp3(abs3(q.A[0]), abs3(q.A[1]), t1, tau), B = lerp3(abs3(q.B[0]), abs3(q.B[1]), t1, tau),
+           C = lerp3(abs3(q.C[0]), abs3(q.C[1]), t1, tau);
+  return D::add(D::mul(D::set1(16 * 0x1p-53), dot3(A, across3(B, C))), D::set1(0x1p-800));
+}
+
+/// LaneKernels::fast_tests: fast_roots of geometry/ccd_fast.h where the cubic has exactly
+/// one sign change on [0, 1] (one_sign_change), then fast_root on [0, 1] (root_estimate of
+/// geometry/ccd_bernstein.h, the bracket, the inside functions) while it needs no bisection.
+/// Each lane follows the scalar code's steps with its operations; a lane leaves a loop or a
+/// branch by a mask where the scalar code would have left it.
+template <bool VF>
+void fast_tests_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4], std::size_t n,
+                   std::uint8_t* decided, double* toi_out) {
+  using D = DOps;
+  using V = typename D::V;
+  constexpr unsigned W = D::kLanes;
+  constexpr unsigned kAll = (1u << W) - 1;
+  const V zero = D::zero(), one = D::set1(1.0);
+  alignas(64) double toi_lanes[W];
+  for (std::size_t first = 0; first < n; first += W) {
+    const unsigned m = static_cast<unsigned>(n - first < W ? n - first : W);
+    LanePoints pts;
+    gather(x0, x1, ids + first, m, pts);
+    LaneCubic q;
+    cubic_lanes<VF>(pts, q);
+    const V c0 = q.f[0], c1 = q.f[1], c2 = q.f[2], c3 = q.f[3], ef = q.ef, nef = D::neg(ef);
+    // one_sign_change(f, ef): c0, c3 certainly of opposite signs and no + - + (- + -) possible
+    const unsigned one_change = (D::gt(c0, ef) & D::gt(nef, c3) & (D::ge(c1, ef) | D::ge(nef, c2))) |
+                                (D::gt(nef, c0) & D::gt(c3, ef) & (D::ge(nef, c1) | D::ge(c2, ef)));
+    unsigned hit = 0, miss = 0;
+    const unsigned live = one_change & in_range(q) & ((1u << m) - 1) & kAll;
+    if (live) {
+      // root_estimate(f, 0, 1, slope)
+      const unsigned neg0 = D::gt(zero, c0);
+      V sl = zero, sr = one, s = D::set1(0.5), d = zero;
+      const V c[4] = {c0, c1, c2, c3};
+      unsigned started = 0;
+      for (int k = 0; k < 3; ++k) {
+        const unsigned change = (D::gt(zero, c[k + 1]) ^ neg0) & ~started & kAll;
+        if (!change) continue;
+        const V qk = D::div(D::add(D::set1(k), D::div(c[k], D::sub(c[k], c[k + 1]))), D::set1(3.0));
+        s = D::select(change & D::gt(qk, zero) & D::gt(one, qk), qk, s);
+        started |= change;
+      }
+      unsigned active = live;
+      for (int it = 0; it < 40 && active; ++it) {
+        const V b0 = D::add(c0, D::mul(s, D::sub(c1, c0))), b1 = D::add(c1, D::mul(s, D::sub(c2, c1))),
+                b2 = D::add(c2, D::mul(s, D::sub(c3, c2)));
+        const V e0 = D::add(b0, D::mul(s, D::sub(b1, b0))), e1 = D::add(b1, D::mul(s, D::sub(b2, b1)));
+        const V v = D::add(e0, D::mul(s, D::sub(e1, e0)));
+        d = D::select(active, D::mul(D::set1(3.0), D::sub(e1, e0)), d);
+        active &= ~D::eq(v, zero);
+        const unsigned left = ~(D::gt(zero, v) ^ neg0);  // (v < 0) == neg0
+        sl = D::select(active & left, s, sl);
+        sr = D::select(active & ~left, s, sr);
+        const V step = D::div(v, D::mul(D::set1(3.0), D::sub(e1, e0)));
+        const V ns = D::sub(s, step);
+        const unsigned converged = active & D::ge(D::set1(0x1p-40), D::abs(step));
+        // std::clamp(ns, sl, sr)
+        const V clamped = D::select(D::gt(sl, ns), sl, D::select(D::gt(ns, sr), sr, ns));
+        s = D::select(converged, clamped, s);
+        active &= ~converged;
+        const V bisect = D::mul(D::set1(0.5), D::add(sl, sr));
+        s = D::select(active, D::select(D::gt(ns, sl) & D::gt(sr, ns), ns, bisect), s);
+        active &= ~D::ge(D::set1(0x1p-52), D::sub(sr, sl));
+      }
+      const V slope = D::div(d, D::sub(one, zero));
+      const V r = D::add(zero, D::mul(s, D::sub(one, zero)));
+      // fast_root on [x, y] = [0, 1]: the bracket [a, b] of half-width 2 h around r
+      const V hw = D::div(D::mul(D::set1(4.0), ef), D::abs(slope));
+      unsigned ok = live & D::ge(D::set1(0x1p-20), hw);
+      const V p2 = D::exponent(hw);
+      const V h = D::select(D::gt(D::set1(0x1p-50), hw), D::set1(0x1p-50), D::select(D::eq(p2, hw), p2, D::mul(D::set1(2.0), p2)));
+      const V k = D::floor_nonneg(D::div(r, h));
+      const V below = D::mul(D::sub(k, D::set1(2.0)), h), above = D::mul(D::add(k, D::set1(2.0)), h);
+      const V a = D::select(D::gt(below, zero), below, zero);  // std::max(0, below)
+      const V b = D::select(D::gt(one, above), above, one);    // std::min(1, above)
+      P3 vz[2][2];  // EE: the separation pairs b0 - a1 and b1 - a0 at t = 0 and 1
+      if constexpr (!VF) {
+        for (unsigned t = 0; t < 2; ++t)
+          vz[0][t] = sub3(pts.p[t][2], pts.p[t][1]), vz[1][t] = sub3(pts.p[t][3], pts.p[t][0]);
+      }
+      const LaneSnap sa = snapshot_lanes<VF>(q, vz[0], vz[1], a), sb = snapshot_lanes<VF>(q, vz[0], vz[1], b);
+      // certain signs at a (that of c0) and at b (the other): against ef, else f_error there
+      const V fea = f_error_lanes(q, a), feb = f_error_lanes(q, b);
+      const unsigned neg_a = D::gt(nef, sa.f) | D::gt(D::neg(fea), sa.f), pos_a = D::gt(sa.f, ef) | D::gt(sa.f, fea);
+      const unsigned neg_b = D::gt(nef, sb.f) | D::gt(D::neg(feb), sb.f), pos_b = D::gt(sb.f, ef) | D::gt(sb.f, feb);
+      ok &= ((neg0 & neg_a) | (~neg0 & pos_a)) & ((neg0 & pos_b) | (~neg0 & neg_b));
+      // the inside functions over [a, b]
+      const V w = D::sub(b, a);
+      const V cw = D::add(D::set1(24 * 0x1p-53), D::mul(D::set1(7.0), D::mul(w, w)));
+      V M[4];
+      if constexpr (VF) {
+        const V bg = D::mul(q.beta, q.gamma), ga = D::mul(q.gamma, q.alpha), ab = D::mul(q.alpha, q.beta);
+        const V s2 = D::mul(D::set1(12.0), D::add(D::add(bg, ga), ab));
+        M[0] = D::mul(s2, bg), M[1] = D::mul(s2, ga), M[2] = D::mul(s2, ab), M[3] = zero;
+      } else {
+        const V nu = D::max(amax3(vz[0][0]), amax3(vz[0][1])), zeta = D::max(amax3(vz[1][0]), amax3(vz[1][1]));
+        const V ab12 = D::mul(D::mul(D::set1(12.0), q.alpha), q.beta);
+        M[0] = D::mul(ab12, D::mul(q.beta, q.gamma)), M[1] = D::mul(ab12, D::mul(nu, q.beta));
+        M[2] = D::mul(ab12, D::mul(q.gamma, q.alpha)), M[3] = D::mul(ab12, D::mul(q.alpha, zeta));
+      }
+      constexpr int kInside = VF ? 3 : 4;
+      unsigned negative = 0, positive = kAll;
+      for (int i = 0; i < kInside; ++i) {
+        const V e = D::add(D::mul(M[i], cw), D::set1(2 * 0x1p-800)), ne = D::neg(e);
+        negative |= D::gt(ne, sa.g[i]) & D::gt(ne, sb.g[i]);
+        positive &= D::gt(sa.g[i], e) & D::gt(sb.g[i], e);
+      }
+      miss = ok & negative;
+      // toi on the grid of G = 2^-32: lo <= r; decided here when [lo, hi] is one grid cell
+      const V G = D::set1(0x1p-32);
+      const V lo = D::mul(D::floor_nonneg(D::div(a, G)), G);
+      const V bG = D::div(b, G), fb = D::floor_nonneg(bG);
+      const V hi = D::mul(D::select(D::gt(bG, fb), D::add(fb, one), fb), G);
+      hit = ok & ~negative & positive & ~D::gt(D::sub(hi, lo), G);
+      D::store(toi_lanes, lo);
+    }
+    for (unsigned i = 0; i < m; ++i) {
+      const bool h = hit >> i & 1u;
+      decided[first + i] = h ? kFastHit : (miss >> i & 1u) ? kFastMiss : kFastOpen;
+      if (h) toi_out[first + i] = toi_lanes[i];
+    }
+  }
+}
+
+void fast_tests(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4], std::size_t n,
+                std::uint8_t* decided, double* toi) {
+  if (vertex_face)
+    fast_tests_of<true>(x0, x1, ids, n, decided, toi);
+  else
+    fast_tests_of<false>(x0, x1, ids, n, decided, toi);
+}
+
+const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, Ops::kLevel};

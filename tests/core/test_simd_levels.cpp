@@ -58,6 +58,15 @@ void expect_same(const Steps& a, const Steps& b, const std::string& what) {
     EXPECT_EQ(x.ee_filtered, y.ee_filtered) << what << " step " << i;
     EXPECT_EQ(x.vf_tests, y.vf_tests) << what << " step " << i;
     EXPECT_EQ(x.ee_tests, y.ee_tests) << what << " step " << i;
+    // the elementary tests' paths: the fast path in lanes decides what the scalar one does
+    for (const auto& [cx, cy] : {std::pair{&x.vf_ccd, &y.vf_ccd}, std::pair{&x.ee_ccd, &y.ee_ccd}}) {
+      EXPECT_EQ(cx->queries, cy->queries) << what << " step " << i;
+      EXPECT_EQ(cx->root_tests, cy->root_tests) << what << " step " << i;
+      EXPECT_EQ(cx->fast_hits, cy->fast_hits) << what << " step " << i;
+      EXPECT_EQ(cx->fast_misses, cy->fast_misses) << what << " step " << i;
+      EXPECT_EQ(cx->hits, cy->hits) << what << " step " << i;
+      EXPECT_EQ(cx->pieces, cy->pieces) << what << " step " << i;
+    }
   }
 }
 
