@@ -23,6 +23,7 @@
 #include <mccd/geometry/ccd_detail.h>
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/query_io.h>
 #include <mccd/geometry/topology.h>
 
@@ -179,22 +180,72 @@ bool run(CcdKind kind, const CcdPoints& p, double& toi, const mccd::CcdOptions& 
   return mccd::detail::ccd_run(kind, p, toi, o, c, path);
 }
 
-// Medians of the two paths' ns per query over `queries`, the runs alternating between them.
-std::array<double, 2> median_both(int runs, const std::vector<CcdPoints>& queries, CcdKind kind,
-                                  const mccd::CcdOptions& opt) {
-  std::vector<double> t[2];
+/// The queries as the engine hands them to the lane kernels: positions by vertex id, four fresh
+/// vertices per query.
+struct LaneLayout {
+  std::vector<double> x0, x1;
+  std::vector<std::uint32_t> ids;
+  explicit LaneLayout(const std::vector<CcdPoints>& queries) {
+    for (const CcdPoints& p : queries)
+      for (int k = 0; k < 4; ++k) {
+        ids.push_back(static_cast<std::uint32_t>(x0.size() / 3));
+        for (int c = 0; c < 3; ++c) x0.push_back(p.start[k][c]), x1.push_back(p.end[k][c]);
+      }
+  }
+  const std::uint32_t (*query_ids() const)[4] { return reinterpret_cast<const std::uint32_t(*)[4]>(ids.data()); }
+};
+
+/// The engine's way (no minimum distance): the fast path in lanes for windows of 512 queries
+/// (LaneKernels::fast_tests), the whole scalar test for the queries it leaves open. Returns the
+/// contacts found; `toi_sum` (when given) their times' sum.
+int run_lanes(CcdKind kind, const std::vector<CcdPoints>& queries, const LaneLayout& lay, const mccd::CcdOptions& o,
+              double* toi_sum = nullptr, std::size_t* open = nullptr) {
+  constexpr std::size_t kWindow = 512;
+  std::uint8_t decided[kWindow];
+  double toi[kWindow];
+  int hits = 0;
+  const mccd::detail::LaneKernels& k = mccd::detail::lane_kernels();
+  for (std::size_t first = 0; first < queries.size(); first += kWindow) {
+    const std::size_t m = std::min(kWindow, queries.size() - first);
+    k.fast_tests(kind == CcdKind::VertexFace, lay.x0.data(), lay.x1.data(), lay.query_ids() + first, m, decided, toi);
+    for (std::size_t i = 0; i < m; ++i) {
+      if (open) *open += decided[i] == mccd::detail::kFastOpen;
+      double t = toi[i];
+      const bool hit = decided[i] == mccd::detail::kFastOpen ? run(kind, queries[first + i], t, o, nullptr, CcdPath::Fast)
+                                                            : decided[i] == mccd::detail::kFastHit;
+      hits += hit;
+      if (hit && toi_sum) *toi_sum += t;
+    }
+  }
+  return hits;
+}
+
+// Medians of the paths' ns per query over `queries`, the runs alternating between them: search
+// only, fast path first, and (no minimum distance) the fast path in lanes first.
+std::array<double, 3> median_paths(int runs, const std::vector<CcdPoints>& queries, CcdKind kind,
+                                   const mccd::CcdOptions& opt) {
+  const bool lanes = !(opt.min_distance > 0);
+  const LaneLayout lay(lanes ? queries : std::vector<CcdPoints>{});
+  std::vector<double> t[3];
   for (int r = 0; r < runs; ++r)
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < (lanes ? 3 : 2); ++k) {
       const CcdPath path = k == 0 ? CcdPath::SearchOnly : CcdPath::Fast;
       t[k].push_back(median_ns_per_item(1, queries.size(), [&] {
         int s = 0;
         double toi;
-        for (const auto& p : queries) s += run(kind, p, toi, opt, nullptr, path);
+        if (k == 2)
+          s = run_lanes(kind, queries, lay, opt);
+        else
+          for (const auto& p : queries) s += run(kind, p, toi, opt, nullptr, path);
         sink = sink + s;
       }));
     }
-  for (auto& v : t) std::sort(v.begin(), v.end());
-  return {t[0].empty() ? 0 : t[0][t[0].size() / 2], t[1].empty() ? 0 : t[1][t[1].size() / 2]};
+  std::array<double, 3> m{};
+  for (int k = 0; k < 3; ++k) {
+    std::sort(t[k].begin(), t[k].end());
+    m[k] = t[k].empty() ? 0 : t[k][t[k].size() / 2];
+  }
+  return m;
 }
 
 void bench(const QuerySet& set, int runs, const mccd::CcdOptions& opt) {
@@ -224,15 +275,24 @@ void bench(const QuerySet& set, int runs, const mccd::CcdOptions& opt) {
     for (const auto& p : after_box) s += mccd::detail::ccd_coplanarity_may_hit(kind, p, opt.min_distance);
     sink = sink + s;
   });
-  const auto past = median_both(runs, after_cop, kind, opt);
-  const auto overall = median_both(runs, all, kind, opt);
+  const auto past = median_paths(runs, after_cop, kind, opt);
+  const auto overall = median_paths(runs, all, kind, opt);
+  // the lanes' way finds the same contacts at the same times as the fast path (checked here)
+  bool lanes_same = true;
+  std::size_t lane_open = 0;
+  if (!(opt.min_distance > 0)) {
+    double lane_toi = 0;
+    run_lanes(kind, after_cop, LaneLayout(after_cop), opt, nullptr, &lane_open);
+    const int lane_hits = run_lanes(kind, all, LaneLayout(all), opt, &lane_toi);
+    lanes_same = lane_hits == static_cast<int>(c[1].hits) && lane_toi == toi_sum[1];
+  }
   const mccd::CcdCounters& f = c[1];
   const double n = static_cast<double>(std::max<std::uint64_t>(f.root_tests, 1));
-  std::printf("%-11s %8zu %9zu %9zu %7llu%s | %6.1f %6.1f | %7.1f %6.1f | %7.1f %6.1f | %5.1f%% %5.1f%% %5.1f %5.1f | %.9g %.9g\n",
+  std::printf("%-11s %8zu %9zu %9zu %7llu%s | %6.1f %6.1f | %7.1f %6.1f %6.1f | %7.1f %6.1f %6.1f | %5.1f%% %5.1f%% %5.1f%% %5.1f %5.1f | %.9g %.9g\n",
               set.name.c_str(), all.size(), after_box.size(), after_cop.size(), (unsigned long long)f.hits,
-              c[0].hits == f.hits ? " " : "!", box, cop, past[0], past[1], overall[0], overall[1],
-              100.0 * double(f.fast_hits) / n, 100.0 * double(f.fast_misses) / n, double(c[0].pieces) / n,
-              double(f.pieces) / n, toi_sum[0], toi_sum[1]);
+              c[0].hits == f.hits && lanes_same ? " " : "!", box, cop, past[0], past[1], past[2], overall[0],
+              overall[1], overall[2], 100.0 * double(f.fast_hits) / n, 100.0 * double(f.fast_misses) / n,
+              100.0 * double(lane_open) / static_cast<double>(std::max<std::size_t>(after_cop.size(), 1)), double(c[0].pieces) / n, double(f.pieces) / n, toi_sum[0], toi_sum[1]);
 }
 
 }  // namespace
@@ -245,7 +305,7 @@ int main(int argc, char** argv) {
   std::size_t limit = 0;  // at most this many queries per set (0: all)
   mccd::CcdOptions opt;
   CLI::App app{"Times the elementary CCD tests per stage (ns per call) on the benchmark sample queries and,\n"
-               "with --step, on the feature pairs of one real step; the search-only and fast paths alternate.",
+               "with --step, on the feature pairs of one real step; the search-only, fast and lane paths alternate.",
                "bench_ccd"};
   app.add_option("DIR", dir, "sample queries folder: every *.csv below it (vertex-face in the path: VF, else EE)")
       ->capture_default_str();
@@ -275,9 +335,9 @@ int main(int argc, char** argv) {
       for (const auto& x : mccd::read_query_csv(e.path().string())) sets[k].q.push_back(x.points);
     }
     if (!step.empty()) load_step(step, sets);
-    std::printf("%-11s %8s %9s %9s %8s | %6s %6s | %14s | %14s | %6s %6s %11s | %s\n", "set", "queries", "after-box",
-                "after-cop", "hits", "box", "cop", "past: S / F", "all: S / F", "f-hit", "f-miss", "pieces S/F",
-                "toi sum S / F");
+    std::printf("%-11s %8s %9s %9s %8s | %6s %6s | %21s | %21s | %6s %6s %6s %11s | %s\n", "set", "queries", "after-box",
+                "after-cop", "hits", "box", "cop", "past: S / F / L", "all: S / F / L", "f-hit", "f-miss",
+                "l-open", "pieces S/F", "toi sum S / F");
     for (QuerySet& s : sets) {
       if (!s.name.starts_with(only)) continue;
       if (limit > 0 && s.q.size() > limit) s.q.resize(limit);
@@ -285,11 +345,14 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "ns per query: box (all queries), cop (after the box test), past (the whole test on the queries past\n"
-        "both filters), all (the whole test, every query); S: search only, F: fast path first (the default),\n"
-        "alternating runs, medians of %d. hits: reported contacts (! when S and F differ). f-hit, f-miss:\n"
-        "share of the queries past the filters that the fast path certifies / clears; pieces: search pieces\n"
+        "both filters), all (the whole test, every query); S: search only, F: fast path first, L: the engine's\n"
+        "way, the fast path in vector lanes for 512 queries at a time (lane kernels %s) and F for what it\n"
+        "leaves open (0 with a minimum distance); alternating runs, medians of %d. hits: reported contacts\n"
+        "(! when S, F and L differ in contacts or times). f-hit, f-miss:\n"
+        "share of the queries past the filters that the fast path certifies / clears; l-open: share of them\n"
+        "that L leaves to F; pieces: search pieces\n"
         "per query past the filters; toi sum: over the reported contacts.\n",
-        runs);
+        mccd::detail::to_string(mccd::detail::lane_kernels().level), runs);
   } catch (const std::exception& e) {
     return mccd::bench::report_failure("bench_ccd", e);
   }
