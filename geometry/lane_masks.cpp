@@ -87,8 +87,12 @@ struct DOps {
   static unsigned eq(V a, V b) { return a == b; }
   static void store(double* p, V a) { *p = a; }
   static V select(unsigned bits, V a, V b) { return bits & 1u ? a : b; }
-  static V floor_nonneg(V a) { return static_cast<double>(static_cast<std::int64_t>(a)); }
+  /// floor(a) for a in [0, 2^62) as the scalar code computes it (a cast); other values (lanes
+  /// whose result is not used) pass unchanged
+  static V floor_nonneg(V a) { return a >= 0 && a < 0x1p62 ? static_cast<double>(static_cast<std::int64_t>(a)) : a; }
   static V exponent(V a) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & 0x7ff0000000000000ull); }
+  static V sqrt(V a) { return std::sqrt(a); }
+  static V copysign(V a, V b) { return std::copysign(a, b); }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_scalar
@@ -136,13 +140,21 @@ struct DOps {
     const V m = _mm_castsi128_pd(_mm_set_epi64x(bits & 2u ? -1 : 0, bits & 1u ? -1 : 0));
     return _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b));
   }
-  /// floor(a) for a in [0, 2^62], lane by lane as the scalar code (SSE2 rounds to int32 only)
+  /// floor(a) for a in [0, 2^62), lane by lane as the scalar code (SSE2 rounds to int32 only);
+  /// other values (lanes whose result is not used) pass unchanged
   static V floor_nonneg(V a) {
     alignas(16) double x[2];
     _mm_store_pd(x, a);
-    return _mm_set_pd(static_cast<double>(static_cast<std::int64_t>(x[1])), static_cast<double>(static_cast<std::int64_t>(x[0])));
+    for (double& v : x)
+      if (v >= 0 && v < 0x1p62) v = static_cast<double>(static_cast<std::int64_t>(v));
+    return _mm_load_pd(x);
   }
   static V exponent(V a) { return _mm_and_pd(a, _mm_castsi128_pd(_mm_set1_epi64x(0x7ff0000000000000LL))); }
+  static V sqrt(V a) { return _mm_sqrt_pd(a); }
+  static V copysign(V a, V b) {
+    const V sign = _mm_set1_pd(-0.0);
+    return _mm_or_pd(_mm_andnot_pd(sign, a), _mm_and_pd(sign, b));
+  }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_sse2
@@ -203,6 +215,11 @@ struct DOps {
   /// floor(a) for a >= 0 (exact: the value the scalar code's cast to int64 gives below 2^62)
   static V floor_nonneg(V a) { return _mm256_round_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
   static V exponent(V a) { return _mm256_and_pd(a, _mm256_castsi256_pd(_mm256_set1_epi64x(0x7ff0000000000000LL))); }
+  static V sqrt(V a) { return _mm256_sqrt_pd(a); }
+  static V copysign(V a, V b) {
+    const V sign = _mm256_set1_pd(-0.0);
+    return _mm256_or_pd(_mm256_andnot_pd(sign, a), _mm256_and_pd(sign, b));
+  }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
@@ -283,6 +300,12 @@ struct DOps {
   /// floor(a) for a >= 0 (exact: the value the scalar code's cast to int64 gives below 2^62)
   static V floor_nonneg(V a) { return _mm512_roundscale_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
   static V exponent(V a) { return bits_op<false>(a, 0x7ff0000000000000LL); }
+  static V sqrt(V a) { return _mm512_sqrt_pd(a); }
+  static V copysign(V a, V b) {
+    const __m512i sign = _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ULL));
+    return _mm512_castsi512_pd(_mm512_or_si512(_mm512_andnot_si512(sign, _mm512_castpd_si512(a)),
+                                               _mm512_and_si512(sign, _mm512_castpd_si512(b))));
+  }
 };
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx512

@@ -332,11 +332,175 @@ inline DOps::V f_error_lanes(const LaneCubic& q, DOps::V tau) {
   return D::add(D::mul(D::set1(16 * 0x1p-53), dot3(A, across3(B, C))), D::set1(0x1p-800));
 }
 
-/// LaneKernels::fast_tests: fast_roots of geometry/ccd_fast.h where the cubic has exactly
-/// one sign change on [0, 1] (one_sign_change), then fast_root on [0, 1] (root_estimate of
-/// geometry/ccd_bernstein.h, the bracket, the inside functions) while it needs no bisection.
-/// Each lane follows the scalar code's steps with its operations; a lane leaves a loop or a
-/// branch by a mask where the scalar code would have left it.
+/// one_sign_change of geometry/ccd_fast.h per lane: the end coefficients certainly of opposite
+/// signs (beyond e) and no pattern + - + (- + -) possible.
+inline unsigned one_sign_change_lanes(const DOps::V (&c)[4], DOps::V e) {
+  using D = DOps;
+  const DOps::V ne = D::neg(e);
+  return (D::gt(c[0], e) & D::gt(ne, c[3]) & (D::ge(c[1], e) | D::ge(ne, c[2]))) |
+         (D::gt(ne, c[0]) & D::gt(c[3], e) & (D::ge(ne, c[1]) | D::ge(c[2], e)));
+}
+/// definite_sign(c, e) != 0 of geometry/ccd_bernstein.h per lane.
+inline unsigned definite_lanes(const DOps::V (&c)[4], DOps::V e) {
+  using D = DOps;
+  const DOps::V ne = D::neg(e);
+  return (D::gt(c[0], e) & D::gt(c[1], e) & D::gt(c[2], e) & D::gt(c[3], e)) |
+         (D::gt(ne, c[0]) & D::gt(ne, c[1]) & D::gt(ne, c[2]) & D::gt(ne, c[3]));
+}
+
+/// What the fast path needs of a query besides its cubic: the inside functions' magnitudes M_i
+/// (KindOps::inside_magnitudes) and, for EE, the separation pairs its snapshots read.
+struct LaneInside {
+  P3 vz[2][2];  // EE: b0 - a1 and b1 - a0 at t = 0 and 1
+  DOps::V M[4];
+};
+template <bool VF>
+void inside_lanes(const LanePoints& pts, const LaneCubic& q, LaneInside& in) {
+  using D = DOps;
+  if constexpr (VF) {
+    const DOps::V bg = D::mul(q.beta, q.gamma), ga = D::mul(q.gamma, q.alpha), ab = D::mul(q.alpha, q.beta);
+    const DOps::V s2 = D::mul(D::set1(12.0), D::add(D::add(bg, ga), ab));
+    in.M[0] = D::mul(s2, bg), in.M[1] = D::mul(s2, ga), in.M[2] = D::mul(s2, ab), in.M[3] = D::zero();
+    in.vz[0][0] = in.vz[0][1] = in.vz[1][0] = in.vz[1][1] = P3{D::zero(), D::zero(), D::zero()};  // unused
+  } else {
+    for (unsigned t = 0; t < 2; ++t)
+      in.vz[0][t] = sub3(pts.p[t][2], pts.p[t][1]), in.vz[1][t] = sub3(pts.p[t][3], pts.p[t][0]);
+    const DOps::V nu = D::max(amax3(in.vz[0][0]), amax3(in.vz[0][1])),
+                  zeta = D::max(amax3(in.vz[1][0]), amax3(in.vz[1][1]));
+    const DOps::V ab12 = D::mul(D::mul(D::set1(12.0), q.alpha), q.beta);
+    in.M[0] = D::mul(ab12, D::mul(q.beta, q.gamma)), in.M[1] = D::mul(ab12, D::mul(nu, q.beta));
+    in.M[2] = D::mul(ab12, D::mul(q.gamma, q.alpha)), in.M[3] = D::mul(ab12, D::mul(q.alpha, zeta));
+  }
+}
+
+/// fast_root of geometry/ccd_fast.h per lane of `live`, on the piece [x, y] whose cubic has
+/// the Bernstein coefficients p (exactly one sign change): root_estimate of
+/// geometry/ccd_bernstein.h, the bracket [a, b], the certain signs of the cubic there, the
+/// inside functions over it. `hit` (time in `toi`): a certified contact whose time needs no
+/// bisection; `miss`: no contact at this root; the other lanes of `live` stay undecided.
+struct RootLanes {
+  unsigned hit = 0, miss = 0;
+  DOps::V toi;
+};
+template <bool VF>
+RootLanes fast_root_lanes(const LaneCubic& q, const LaneInside& in, const DOps::V (&p)[4], DOps::V x, DOps::V y,
+                          unsigned live) {
+  using D = DOps;
+  using V = DOps::V;
+  constexpr unsigned kAll = (1u << D::kLanes) - 1;
+  const V zero = D::zero(), one = D::set1(1.0), three = D::set1(3.0);
+  const V c0 = p[0], c1 = p[1], c2 = p[2], c3 = p[3], ef = q.ef, nef = D::neg(ef);
+  RootLanes out;
+  out.toi = zero;
+  // root_estimate(p, x, y, slope)
+  const unsigned neg0 = D::gt(zero, c0);
+  V sl = zero, sr = one, s = D::set1(0.5), d = zero;
+  unsigned started = 0;
+  for (int k = 0; k < 3; ++k) {
+    const unsigned change = (D::gt(zero, p[k + 1]) ^ neg0) & ~started & kAll;
+    if (!change) continue;
+    const V qk = D::div(D::add(D::set1(k), D::div(p[k], D::sub(p[k], p[k + 1]))), three);
+    s = D::select(change & D::gt(qk, zero) & D::gt(one, qk), qk, s);
+    started |= change;
+  }
+  unsigned active = live;
+  for (int it = 0; it < 40 && active; ++it) {
+    const V b0 = D::add(c0, D::mul(s, D::sub(c1, c0))), b1 = D::add(c1, D::mul(s, D::sub(c2, c1))),
+            b2 = D::add(c2, D::mul(s, D::sub(c3, c2)));
+    const V e0 = D::add(b0, D::mul(s, D::sub(b1, b0))), e1 = D::add(b1, D::mul(s, D::sub(b2, b1)));
+    const V v = D::add(e0, D::mul(s, D::sub(e1, e0)));
+    const V dn = D::mul(three, D::sub(e1, e0));
+    d = D::select(active, dn, d);
+    active &= ~D::eq(v, zero);
+    const unsigned left = ~(D::gt(zero, v) ^ neg0);  // (v < 0) == neg0
+    sl = D::select(active & left, s, sl);
+    sr = D::select(active & ~left, s, sr);
+    const V step = D::div(v, dn);
+    const V ns = D::sub(s, step);
+    const unsigned converged = active & D::ge(D::set1(0x1p-40), D::abs(step));
+    const V clamped = D::select(D::gt(sl, ns), sl, D::select(D::gt(ns, sr), sr, ns));  // std::clamp(ns, sl, sr)
+    s = D::select(converged, clamped, s);
+    active &= ~converged;
+    const V bisect = D::mul(D::set1(0.5), D::add(sl, sr));
+    s = D::select(active, D::select(D::gt(ns, sl) & D::gt(sr, ns), ns, bisect), s);
+    active &= ~D::ge(D::set1(0x1p-52), D::sub(sr, sl));
+  }
+  const V slope = D::div(d, D::sub(y, x));
+  const V r = D::add(x, D::mul(s, D::sub(y, x)));
+  // the bracket [a, b] of half-width 2 h around r, h a power of two from the slope
+  const V hw = D::div(D::mul(D::set1(4.0), ef), D::abs(slope));
+  unsigned ok = live & D::ge(D::set1(0x1p-20), hw);
+  const V p2 = D::exponent(hw);
+  const V h = D::select(D::gt(D::set1(0x1p-50), hw), D::set1(0x1p-50), D::select(D::eq(p2, hw), p2, D::mul(D::set1(2.0), p2)));
+  const V k = D::floor_nonneg(D::div(r, h));
+  const V below = D::mul(D::sub(k, D::set1(2.0)), h), above = D::mul(D::add(k, D::set1(2.0)), h);
+  const V a = D::select(D::gt(below, x), below, x);  // std::max(x, below)
+  const V b = D::select(D::gt(y, above), above, y);  // std::min(y, above)
+  const LaneSnap sa = snapshot_lanes<VF>(q, in.vz[0], in.vz[1], a), sb = snapshot_lanes<VF>(q, in.vz[0], in.vz[1], b);
+  // certain signs at a (that of p's c0) and at b (the other): against ef, else f_error there
+  const V fea = f_error_lanes(q, a), feb = f_error_lanes(q, b);
+  const unsigned neg_a = D::gt(nef, sa.f) | D::gt(D::neg(fea), sa.f), pos_a = D::gt(sa.f, ef) | D::gt(sa.f, fea);
+  const unsigned neg_b = D::gt(nef, sb.f) | D::gt(D::neg(feb), sb.f), pos_b = D::gt(sb.f, ef) | D::gt(sb.f, feb);
+  ok &= ((neg0 & neg_a) | (~neg0 & pos_a)) & ((neg0 & pos_b) | (~neg0 & neg_b));
+  // the inside functions over [a, b]
+  const V w = D::sub(b, a);
+  const V cw = D::add(D::set1(24 * 0x1p-53), D::mul(D::set1(7.0), D::mul(w, w)));
+  constexpr int kInside = VF ? 3 : 4;
+  unsigned negative = 0, positive = kAll;
+  for (int i = 0; i < kInside; ++i) {
+    const V e = D::add(D::mul(in.M[i], cw), D::set1(2 * 0x1p-800)), ne = D::neg(e);
+    negative |= D::gt(ne, sa.g[i]) & D::gt(ne, sb.g[i]);
+    positive &= D::gt(sa.g[i], e) & D::gt(sb.g[i], e);
+  }
+  out.miss = ok & negative;
+  // toi on the grid of G = 2^-32: lo <= r; decided here when [lo, hi] is one grid cell
+  const V G = D::set1(0x1p-32);
+  const V lo = D::mul(D::floor_nonneg(D::div(a, G)), G);
+  const V bG = D::div(b, G), fb = D::floor_nonneg(bG);
+  const V hi = D::mul(D::select(D::gt(bG, fb), D::add(fb, one), fb), G);
+  out.hit = ok & ~negative & positive & ~D::gt(D::sub(hi, lo), G);
+  out.toi = lo;
+  return out;
+}
+
+/// split_points of geometry/ccd_fast.h per lane: estimates of the cubic's critical points in
+/// (0, 1) on the grid of 2^-24, in order (m0 < m1 where `two`), else 1/2.
+inline unsigned split_points_lanes(const DOps::V (&f)[4], DOps::V& m0, DOps::V& m1) {
+  using D = DOps;
+  using V = DOps::V;
+  const V zero = D::zero(), two = D::set1(2.0);
+  const V d0 = D::sub(f[1], f[0]), d1 = D::sub(f[2], f[1]), d2 = D::sub(f[3], f[2]);
+  const V qa = D::add(D::sub(d0, D::mul(two, d1)), d2), qb = D::mul(two, D::sub(d1, d0)), qc = d0;
+  const unsigned linear = D::eq(qa, zero);
+  const V disc = D::sub(D::mul(qb, qb), D::mul(D::mul(D::set1(4.0), qa), qc));
+  const V qq = D::mul(D::set1(-0.5), D::add(qb, D::copysign(D::sqrt(disc), qb)));
+  // the roots: -qc / qb (qa = 0, qb != 0); q / qa and, when q != 0, qc / q (disc >= 0)
+  const V r0 = D::select(linear, D::div(D::neg(qc), qb), D::div(qq, qa)), r1 = D::div(qc, qq);
+  const unsigned has0 = (linear & ~D::eq(qb, zero)) | (~linear & D::ge(disc, zero));
+  const unsigned has1 = ~linear & D::ge(disc, zero) & ~D::eq(qq, zero);
+  auto on_grid = [&](V r, unsigned has, V& x) {
+    const V x24 = D::mul(r, D::set1(0x1p24));
+    const unsigned inside = has & D::ge(x24, D::set1(1.0)) & D::ge(D::set1(0x1p24 - 1), x24);
+    x = D::mul(D::floor_nonneg(D::add(x24, D::set1(0.5))), D::set1(0x1p-24));
+    return inside;
+  };
+  V x0, x1;
+  const unsigned in0 = on_grid(r0, has0, x0), in1 = on_grid(r1, has1, x1);
+  const unsigned both = in0 & in1 & ~D::eq(x0, x1);
+  const unsigned swap = D::gt(x0, x1);
+  m0 = D::select(both, D::select(swap, x1, x0), D::select(in0, x0, D::select(in1, x1, D::set1(0.5))));
+  m1 = D::select(swap, x0, x1);
+  return both;
+}
+
+/// LaneKernels::fast_tests: fast_roots of geometry/ccd_fast.h per lane. A cubic with exactly
+/// one sign change on [0, 1]: fast_root there. Otherwise (its ends certainly nonzero) [0, 1]
+/// split at the estimated critical points (split_at at one, restrict_to for three parts at
+/// two), the parts taken earliest first: one of one sign skipped, one with one sign change
+/// to fast_root (a miss goes on to the next part), one that would need halving left open;
+/// every part passed: no contact. Each lane follows the scalar code's steps with its
+/// operations; a lane leaves a loop or a branch by a mask where the scalar code would have
+/// left it, and a time that needs bisection is left open.
 template <bool VF>
 void fast_tests_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4], std::size_t n,
                    std::uint8_t* decided, double* toi_out) {
@@ -352,99 +516,73 @@ void fast_tests_of(const double* x0, const double* x1, const std::uint32_t (*ids
     gather(x0, x1, ids + first, m, pts);
     LaneCubic q;
     cubic_lanes<VF>(pts, q);
-    const V c0 = q.f[0], c1 = q.f[1], c2 = q.f[2], c3 = q.f[3], ef = q.ef, nef = D::neg(ef);
-    // one_sign_change(f, ef): c0, c3 certainly of opposite signs and no + - + (- + -) possible
-    const unsigned one_change = (D::gt(c0, ef) & D::gt(nef, c3) & (D::ge(c1, ef) | D::ge(nef, c2))) |
-                                (D::gt(nef, c0) & D::gt(c3, ef) & (D::ge(nef, c1) | D::ge(c2, ef)));
+    const V ef = q.ef;
+    const unsigned lanes = in_range(q) & ((1u << m) - 1) & kAll;
+    const unsigned direct = one_sign_change_lanes(q.f, ef) & lanes;
+    // fast_roots' split: the ends certainly nonzero, not one sign change on [0, 1]
+    const unsigned split = lanes & ~direct & D::gt(D::abs(q.f[0]), ef) & D::gt(D::abs(q.f[3]), ef);
     unsigned hit = 0, miss = 0;
-    const unsigned live = one_change & in_range(q) & ((1u << m) - 1) & kAll;
-    if (live) {
-      // root_estimate(f, 0, 1, slope)
-      const unsigned neg0 = D::gt(zero, c0);
-      V sl = zero, sr = one, s = D::set1(0.5), d = zero;
-      const V c[4] = {c0, c1, c2, c3};
-      unsigned started = 0;
-      for (int k = 0; k < 3; ++k) {
-        const unsigned change = (D::gt(zero, c[k + 1]) ^ neg0) & ~started & kAll;
-        if (!change) continue;
-        const V qk = D::div(D::add(D::set1(k), D::div(c[k], D::sub(c[k], c[k + 1]))), D::set1(3.0));
-        s = D::select(change & D::gt(qk, zero) & D::gt(one, qk), qk, s);
-        started |= change;
+    V toi = zero;
+    if (direct | split) {
+      LaneInside in;
+      inside_lanes<VF>(pts, q, in);
+      if (direct) {
+        const RootLanes r = fast_root_lanes<VF>(q, in, q.f, zero, one, direct);
+        hit |= r.hit, miss |= r.miss, toi = r.toi;
       }
-      unsigned active = live;
-      for (int it = 0; it < 40 && active; ++it) {
-        const V b0 = D::add(c0, D::mul(s, D::sub(c1, c0))), b1 = D::add(c1, D::mul(s, D::sub(c2, c1))),
-                b2 = D::add(c2, D::mul(s, D::sub(c3, c2)));
-        const V e0 = D::add(b0, D::mul(s, D::sub(b1, b0))), e1 = D::add(b1, D::mul(s, D::sub(b2, b1)));
-        const V v = D::add(e0, D::mul(s, D::sub(e1, e0)));
-        d = D::select(active, D::mul(D::set1(3.0), D::sub(e1, e0)), d);
-        active &= ~D::eq(v, zero);
-        const unsigned left = ~(D::gt(zero, v) ^ neg0);  // (v < 0) == neg0
-        sl = D::select(active & left, s, sl);
-        sr = D::select(active & ~left, s, sr);
-        const V step = D::div(v, D::mul(D::set1(3.0), D::sub(e1, e0)));
-        const V ns = D::sub(s, step);
-        const unsigned converged = active & D::ge(D::set1(0x1p-40), D::abs(step));
-        // std::clamp(ns, sl, sr)
-        const V clamped = D::select(D::gt(sl, ns), sl, D::select(D::gt(ns, sr), sr, ns));
-        s = D::select(converged, clamped, s);
-        active &= ~converged;
-        const V bisect = D::mul(D::set1(0.5), D::add(sl, sr));
-        s = D::select(active, D::select(D::gt(ns, sl) & D::gt(sr, ns), ns, bisect), s);
-        active &= ~D::ge(D::set1(0x1p-52), D::sub(sr, sl));
+      if (split) {
+        V m0, m1;
+        const unsigned three_parts = split_points_lanes(q.f, m0, m1);
+        // the parts' coefficients: split_at(f, ef, m0) where one point, restrict_to where two;
+        // both grow the bound to ef + 12 u max|c| + 2^-800
+        const V mag = D::max(D::max(D::max(D::max(zero, D::abs(q.f[0])), D::abs(q.f[1])), D::abs(q.f[2])), D::abs(q.f[3]));
+        const V e = D::add(D::add(ef, D::mul(D::set1(12 * 0x1p-53), mag)), D::set1(0x1p-800));
+        V part[3][4], lo[3], hi[3];
+        {
+          const V s = m0, s1 = D::sub(one, s);  // split_at: de Casteljau at s
+          V t[4] = {q.f[0], q.f[1], q.f[2], q.f[3]};
+          V l[4], r[4];
+          l[0] = t[0], r[3] = t[3];
+          for (int k = 1; k <= 3; ++k) {
+            for (int i = 0; i <= 3 - k; ++i) t[i] = D::add(D::mul(s1, t[i]), D::mul(s, t[i + 1]));
+            l[k] = t[0], r[3 - k] = t[3 - k];
+          }
+          for (int k = 0; k < 4; ++k) part[0][k] = l[k], part[1][k] = r[k];
+        }
+        lo[0] = zero, hi[0] = m0, lo[1] = m0, hi[1] = D::select(three_parts, m1, one), lo[2] = m1, hi[2] = one;
+        if (three_parts) {
+          for (int j = 0; j < 3; ++j) {  // restrict_to(f, ef, lo, hi): the blossoms
+            V rt[4];
+            const V L = lo[j], H = hi[j], l1 = D::sub(one, L), h1 = D::sub(one, H);
+            V row[4] = {q.f[0], q.f[1], q.f[2], q.f[3]};
+            for (int c = 0; c <= 3; ++c) {
+              V tmp[4];
+              for (int i = 0; i <= 3 - c; ++i) tmp[i] = row[i];
+              for (int level = 0; level < 3 - c; ++level)
+                for (int i = 0; i < 3 - c - level; ++i) tmp[i] = D::add(D::mul(l1, tmp[i]), D::mul(L, tmp[i + 1]));
+              rt[c] = tmp[0];
+              for (int i = 0; i < 3 - c; ++i) row[i] = D::add(D::mul(h1, row[i]), D::mul(H, row[i + 1]));
+            }
+            for (int c = 0; c < 4; ++c) part[j][c] = j < 2 ? D::select(three_parts, rt[c], part[j][c]) : rt[c];
+          }
+        }
+        unsigned pending = split;
+        for (int j = 0; j < 3 && pending; ++j) {
+          const unsigned here = pending & (j < 2 ? kAll : three_parts);
+          if (!here) continue;
+          const unsigned one_sign = definite_lanes(part[j], e) & here;
+          const unsigned change = one_sign_change_lanes(part[j], e) & here & ~one_sign;
+          pending &= ~(here & ~one_sign & ~change);  // would be halved: left open
+          if (!change) continue;
+          const RootLanes r = fast_root_lanes<VF>(q, in, part[j], lo[j], hi[j], change);
+          hit |= r.hit;
+          toi = D::select(r.hit, r.toi, toi);
+          pending &= ~(change & ~r.miss);  // a hit, or undecided there: no later part
+        }
+        miss |= pending;  // every part passed
       }
-      const V slope = D::div(d, D::sub(one, zero));
-      const V r = D::add(zero, D::mul(s, D::sub(one, zero)));
-      // fast_root on [x, y] = [0, 1]: the bracket [a, b] of half-width 2 h around r
-      const V hw = D::div(D::mul(D::set1(4.0), ef), D::abs(slope));
-      unsigned ok = live & D::ge(D::set1(0x1p-20), hw);
-      const V p2 = D::exponent(hw);
-      const V h = D::select(D::gt(D::set1(0x1p-50), hw), D::set1(0x1p-50), D::select(D::eq(p2, hw), p2, D::mul(D::set1(2.0), p2)));
-      const V k = D::floor_nonneg(D::div(r, h));
-      const V below = D::mul(D::sub(k, D::set1(2.0)), h), above = D::mul(D::add(k, D::set1(2.0)), h);
-      const V a = D::select(D::gt(below, zero), below, zero);  // std::max(0, below)
-      const V b = D::select(D::gt(one, above), above, one);    // std::min(1, above)
-      P3 vz[2][2];  // EE: the separation pairs b0 - a1 and b1 - a0 at t = 0 and 1
-      if constexpr (!VF) {
-        for (unsigned t = 0; t < 2; ++t)
-          vz[0][t] = sub3(pts.p[t][2], pts.p[t][1]), vz[1][t] = sub3(pts.p[t][3], pts.p[t][0]);
-      }
-      const LaneSnap sa = snapshot_lanes<VF>(q, vz[0], vz[1], a), sb = snapshot_lanes<VF>(q, vz[0], vz[1], b);
-      // certain signs at a (that of c0) and at b (the other): against ef, else f_error there
-      const V fea = f_error_lanes(q, a), feb = f_error_lanes(q, b);
-      const unsigned neg_a = D::gt(nef, sa.f) | D::gt(D::neg(fea), sa.f), pos_a = D::gt(sa.f, ef) | D::gt(sa.f, fea);
-      const unsigned neg_b = D::gt(nef, sb.f) | D::gt(D::neg(feb), sb.f), pos_b = D::gt(sb.f, ef) | D::gt(sb.f, feb);
-      ok &= ((neg0 & neg_a) | (~neg0 & pos_a)) & ((neg0 & pos_b) | (~neg0 & neg_b));
-      // the inside functions over [a, b]
-      const V w = D::sub(b, a);
-      const V cw = D::add(D::set1(24 * 0x1p-53), D::mul(D::set1(7.0), D::mul(w, w)));
-      V M[4];
-      if constexpr (VF) {
-        const V bg = D::mul(q.beta, q.gamma), ga = D::mul(q.gamma, q.alpha), ab = D::mul(q.alpha, q.beta);
-        const V s2 = D::mul(D::set1(12.0), D::add(D::add(bg, ga), ab));
-        M[0] = D::mul(s2, bg), M[1] = D::mul(s2, ga), M[2] = D::mul(s2, ab), M[3] = zero;
-      } else {
-        const V nu = D::max(amax3(vz[0][0]), amax3(vz[0][1])), zeta = D::max(amax3(vz[1][0]), amax3(vz[1][1]));
-        const V ab12 = D::mul(D::mul(D::set1(12.0), q.alpha), q.beta);
-        M[0] = D::mul(ab12, D::mul(q.beta, q.gamma)), M[1] = D::mul(ab12, D::mul(nu, q.beta));
-        M[2] = D::mul(ab12, D::mul(q.gamma, q.alpha)), M[3] = D::mul(ab12, D::mul(q.alpha, zeta));
-      }
-      constexpr int kInside = VF ? 3 : 4;
-      unsigned negative = 0, positive = kAll;
-      for (int i = 0; i < kInside; ++i) {
-        const V e = D::add(D::mul(M[i], cw), D::set1(2 * 0x1p-800)), ne = D::neg(e);
-        negative |= D::gt(ne, sa.g[i]) & D::gt(ne, sb.g[i]);
-        positive &= D::gt(sa.g[i], e) & D::gt(sb.g[i], e);
-      }
-      miss = ok & negative;
-      // toi on the grid of G = 2^-32: lo <= r; decided here when [lo, hi] is one grid cell
-      const V G = D::set1(0x1p-32);
-      const V lo = D::mul(D::floor_nonneg(D::div(a, G)), G);
-      const V bG = D::div(b, G), fb = D::floor_nonneg(bG);
-      const V hi = D::mul(D::select(D::gt(bG, fb), D::add(fb, one), fb), G);
-      hit = ok & ~negative & positive & ~D::gt(D::sub(hi, lo), G);
-      D::store(toi_lanes, lo);
     }
+    D::store(toi_lanes, toi);
     for (unsigned i = 0; i < m; ++i) {
       const bool h = hit >> i & 1u;
       decided[first + i] = h ? kFastHit : (miss >> i & 1u) ? kFastMiss : kFastOpen;
