@@ -47,19 +47,23 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
                     return m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
                   }),
       nodes_(bvh_.size()),
-      owners_(bvh_, scene.topology(), tbb_executor()),
-      volumes_{{},
-               scene.representatives() == Representatives::Leaf ? LeafLanes<BV>(bvh_, owners_, tbb_executor())
-                                                                 : LeafLanes<BV>(),
-               {},
-               {}},
       tests_(scene.topology(), volumes_.swept, x0_, x1_, query_, ConservativeCcd{CcdOptions{options.min_distance}}),
-      culling_(options.self_culling && options.min_distance == 0 && scene.representatives() == Representatives::Leaf
-                   ? SelfCulling(bvh_, scene, tbb_executor())
-                   : SelfCulling()),
       leaf_(scene, bvh_, owners_, nodes_, volumes_.lanes, tests_, &unchanged_, &culling_),
       bvtt_(bvh_, nodes_, scene, leaf_, query_, &culling_),
       search_(FrontRules{options.rebuild_sprout_ratio, options.rebuild_invalid_ratio, options.max_front_bytes}) {
+  // The leaf rule's owners and lanes beside the self-culling certificates' patches: each has
+  // serial parts that the other's loops fill (the members hold nothing until here; the
+  // objects constructed above keep references to them only).
+  const bool leaf_rule = scene.representatives() == Representatives::Leaf;
+  tbb_executor().invoke(
+      [&] {
+        owners_ = LeafOwnership(bvh_, scene.topology(), tbb_executor());
+        if (leaf_rule) volumes_.lanes = LeafLanes<BV>(bvh_, owners_, tbb_executor());
+      },
+      [&] {
+        if (options.self_culling && options.min_distance == 0 && leaf_rule)
+          culling_ = SelfCulling(bvh_, scene, tbb_executor());
+      });
   const MeshTopology& topo = scene.topology();
   // The large arrays' first touch (page faults and the kernel's zeroing) in parallel (the
   // scene constructs its stepper in its arena).
