@@ -231,6 +231,22 @@ inline unsigned in_range(const LaneCubic& q) {
   return DOps::ge(q.mx, DOps::set1(0x1p-60)) & DOps::ge(DOps::set1(0x1p60), q.mx);
 }
 
+/// one_sign_change of geometry/ccd_fast.h per lane: the end coefficients certainly of opposite
+/// signs (beyond e) and no pattern + - + (- + -) possible.
+inline unsigned one_sign_change_lanes(const DOps::V (&c)[4], DOps::V e) {
+  using D = DOps;
+  const DOps::V ne = D::neg(e);
+  return (D::gt(c[0], e) & D::gt(ne, c[3]) & (D::ge(c[1], e) | D::ge(ne, c[2]))) |
+         (D::gt(ne, c[0]) & D::gt(c[3], e) & (D::ge(ne, c[1]) | D::ge(c[2], e)));
+}
+/// definite_sign(c, e) != 0 of geometry/ccd_bernstein.h per lane.
+inline unsigned definite_lanes(const DOps::V (&c)[4], DOps::V e) {
+  using D = DOps;
+  const DOps::V ne = D::neg(e);
+  return (D::gt(c[0], e) & D::gt(c[1], e) & D::gt(c[2], e) & D::gt(c[3], e)) |
+         (D::gt(ne, c[0]) & D::gt(ne, c[1]) & D::gt(ne, c[2]) & D::gt(ne, c[3]));
+}
+
 template <bool VF>
 void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_t (*ids)[4],
                           const std::uint8_t* within, std::size_t n, std::uint8_t* quarters) {
@@ -244,13 +260,6 @@ void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_
     LaneCubic q;
     cubic_lanes<VF>(pts, q);
     const V ef = q.ef;
-    // definite_sign(b, thr) != 0 of geometry/ccd_bernstein.h, per lane
-    auto definite = [](const V (&b)[4], V thr) {
-      const V nthr = D::neg(thr);
-      const unsigned pos = D::gt(b[0], thr) & D::gt(b[1], thr) & D::gt(b[2], thr) & D::gt(b[3], thr);
-      const unsigned neg = D::gt(nthr, b[0]) & D::gt(nthr, b[1]) & D::gt(nthr, b[2]) & D::gt(nthr, b[3]);
-      return pos | neg;
-    };
     // split_half of geometry/ccd_bernstein.h: de Casteljau at 1/2, and the grown bound
     const V half = D::set1(0.5), grow = D::set1(6 * 0x1p-53), tiny = D::set1(0x1p-800);
     auto split = [&](const V (&b)[4], V err, V (&l)[4], V (&r)[4]) {
@@ -268,14 +277,14 @@ void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_
     // cubic is of one sign, else quarters_of (geometry/ccd.cpp): each half of one sign
     // dropped, each quarter of the others kept unless of one sign, among the quarters asked for
     unsigned kept[4] = {0, 0, 0, 0};
-    const unsigned whole = definite(f, ef);
+    const unsigned whole = definite_lanes(f, ef);
     V h[2][4];
     const V eh = split(f, ef, h[0], h[1]);
     for (unsigned i = 0; i < 2; ++i) {
-      const unsigned hd = definite(h[i], eh);
+      const unsigned hd = definite_lanes(h[i], eh);
       V qh[2][4];
       const V eq = split(h[i], eh, qh[0], qh[1]);
-      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite(qh[j], eq);
+      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite_lanes(qh[j], eq);
     }
     const unsigned range = in_range(q);
     for (unsigned i = 0; i < m; ++i) {
@@ -330,22 +339,6 @@ inline DOps::V f_error_lanes(const LaneCubic& q, DOps::V tau) {
   const P3 A = lerp3(abs3(q.A[0]), abs3(q.A[1]), t1, tau), B = lerp3(abs3(q.B[0]), abs3(q.B[1]), t1, tau),
            C = lerp3(abs3(q.C[0]), abs3(q.C[1]), t1, tau);
   return D::add(D::mul(D::set1(16 * 0x1p-53), dot3(A, across3(B, C))), D::set1(0x1p-800));
-}
-
-/// one_sign_change of geometry/ccd_fast.h per lane: the end coefficients certainly of opposite
-/// signs (beyond e) and no pattern + - + (- + -) possible.
-inline unsigned one_sign_change_lanes(const DOps::V (&c)[4], DOps::V e) {
-  using D = DOps;
-  const DOps::V ne = D::neg(e);
-  return (D::gt(c[0], e) & D::gt(ne, c[3]) & (D::ge(c[1], e) | D::ge(ne, c[2]))) |
-         (D::gt(ne, c[0]) & D::gt(c[3], e) & (D::ge(ne, c[1]) | D::ge(c[2], e)));
-}
-/// definite_sign(c, e) != 0 of geometry/ccd_bernstein.h per lane.
-inline unsigned definite_lanes(const DOps::V (&c)[4], DOps::V e) {
-  using D = DOps;
-  const DOps::V ne = D::neg(e);
-  return (D::gt(c[0], e) & D::gt(c[1], e) & D::gt(c[2], e) & D::gt(c[3], e)) |
-         (D::gt(ne, c[0]) & D::gt(ne, c[1]) & D::gt(ne, c[2]) & D::gt(ne, c[3]));
 }
 
 /// What the fast path needs of a query besides its cubic: the inside functions' magnitudes M_i
