@@ -209,13 +209,11 @@ class FeatureTests {
         for (std::size_t j = 0; j < nvf; ++j) filtered[where[j]] = r[j];
         for (std::size_t j = back; j < kWindow; ++j) filtered[where[j]] = r[j];
       }
-      constexpr std::size_t kAhead = 4;  // pairs ahead whose volumes, tested after the filter, are asked for
       if (batch) {
         // what each pair needs, and the fast path for those the vector filter decided
         std::size_t nvf = 0, back = kWindow;
         for (std::size_t i = 0; i < n; ++i) {
-          if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
-            prefetch_volumes(w[i + kAhead]);
+          prefetch_ahead(w, filtered, i, n);
           action[i] = kSkip;
           const unsigned quarters = kept_quarters(w[i], filtered[i], out);
           if (!quarters) continue;
@@ -241,30 +239,24 @@ class FeatureTests {
         for (std::size_t i = 0; i < n; ++i) {
           if (action[i] == kSkip) continue;
           const QueuedPair& p = w[i];
-          const bool vf = p.kind == 0;
-          const std::size_t before = out.contacts.size();
-          if (action[i] == kFast && decided[i] != kFastOpen)
+          if (action[i] == kFast && decided[i] != kFastOpen) {
+            const std::size_t before = out.contacts.size();
             fast_decided(p, filtered[i] & quarters_at[i], decided[i] == kFastHit, toi_at[i], out);
-          else
-            narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b, vf ? ContactKind::VertexFace : ContactKind::EdgeEdge,
-                   quarters_at[i], out, action[i] == kFast ? filtered[i] : kUndecided);
-          if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+            if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+          } else {
+            narrow_queued(p, quarters_at[i], action[i] == kFast ? filtered[i] : kUndecided, out, found);
+          }
         }
         continue;
       }
       for (std::size_t i = 0; i < n && !query_.stopped(); ++i) {
-        if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
-          prefetch_volumes(w[i + kAhead]);
+        prefetch_ahead(w, filtered, i, n);
         const QueuedPair& p = w[i];
         const unsigned quarters = kept_quarters(p, filtered[i], out);
         if (!quarters) continue;
-        const std::size_t before = out.contacts.size();
         // The filter's own result for the quarters the vector filter was asked (those of the
         // queued pair, holding the pair's own): not computed twice.
-        narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
-               p.kind == 0 ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out,
-               known(p, filtered[i], quarters) ? filtered[i] : kUndecided);
-        if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+        narrow_queued(p, quarters, known(p, filtered[i], quarters) ? filtered[i] : kUndecided, out, found);
       }
     }
     q.clear();
@@ -276,6 +268,23 @@ class FeatureTests {
   }
 
  private:
+  /// Pairs ahead whose volumes, tested after the filter, run_queued() asks for.
+  static constexpr std::size_t kAhead = 4;
+  /// Asks for the volumes of the pair kAhead after pair i of a window of n (when they are
+  /// tested after the filter and the filter keeps the pair).
+  void prefetch_ahead(const QueuedPair* w, const std::uint8_t* filtered, std::size_t i, std::size_t n) const {
+    if (i + kAhead < n && (w[i + kAhead].quarters & kVolumesPending) && filtered[i + kAhead] != 0)
+      prefetch_volumes(w[i + kAhead]);
+  }
+  /// narrow() on queued pair p in `quarters` (`known` as for narrow()), and found(leaf_a,
+  /// leaf_b) when it adds a contact.
+  template <class Found>
+  void narrow_queued(const QueuedPair& p, unsigned quarters, unsigned known, WorkerOutput& out, const Found& found) const {
+    const std::size_t before = out.contacts.size();
+    narrow({p.ids[0], p.ids[1], p.ids[2], p.ids[3]}, p.a, p.b,
+           p.kind == 0 ? ContactKind::VertexFace : ContactKind::EdgeEdge, quarters, out, known);
+    if (out.contacts.size() != before) found(p.leaf_a, p.leaf_b);
+  }
   /// The quarters in which queued pair p goes to the narrow phase (0: none, the pair's counts
   /// made), `filtered` the vector filter's result for it (or kUndecided): its own quarter
   /// volumes' when they are pending, and none when the filter clears those.
