@@ -31,11 +31,33 @@ if [ "${MCCD_TSAN_FULL:-0}" != 1 ]; then
   filter="$filter-SceneMethods.LargeFoldingClothAgree:SceneMethods.RandomTrianglesAgree:MethodsAndThreads.ClothBallRealStep"
 fi
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$PWD/.ci/tsan.supp ${TSAN_OPTIONS:-}"
-echo "--- TSan, 2 threads: $filter"
-MCCD_TEST_THREADS=2 build-tsan/bin/mccd_tests --gtest_filter="$filter" --gtest_brief=1
+# Each run names every test as it starts (the passes are left out of the log) and is stopped
+# after $MCCD_TSAN_LIMIT seconds (default 1200; a run takes 2 minutes on an idle 2-core
+# machine, 4 with both cores busy): a run that hangs then fails naming the test it was in,
+# instead of running into CI's own time limit.
+limit=${MCCD_TSAN_LIMIT:-1200}
+run_suites() {
+  local threads=$1 f=$2 rc
+  echo "--- TSan, $threads threads: $f"
+  set +e
+  MCCD_TEST_THREADS=$threads timeout -k 10 "$limit" build-tsan/bin/mccd_tests --gtest_filter="$f" 2>&1 |
+    grep -v -E '^\[       OK \]'
+  rc=${PIPESTATUS[0]}
+  set -e
+  case "$rc" in
+    0) ;;
+    124 | 137) echo "TSan, $threads threads: stopped after $limit s; the test named last above did not finish" ;;
+    *) echo "TSan, $threads threads: failed (exit $rc)" ;;
+  esac
+  return "$rc"
+}
+SECONDS=0
+run_suites 2 "$filter"
+echo "--- TSan, 2 threads: $SECONDS s"
 # MethodsAndThreads and Embedding make their own arenas (1 to 8 threads) whatever
 # MCCD_TEST_THREADS says: once is enough.
 case "$filter" in *-*) filter4="$filter:" ;; *) filter4="$filter-" ;; esac
 filter4="${filter4}MethodsAndThreads.*:Embedding.*"
-echo "--- TSan, 4 threads: $filter4"
-MCCD_TEST_THREADS=4 build-tsan/bin/mccd_tests --gtest_filter="$filter4" --gtest_brief=1
+SECONDS=0
+run_suites 4 "$filter4"
+echo "--- TSan, 4 threads: $SECONDS s"

@@ -8,6 +8,9 @@
 #include <memory>
 
 int main(int argc, char** argv) {
+  // Each line out as soon as it is written, also into a pipe or a log file: a run that is
+  // stopped from outside (a CI time limit) then shows the test it was in.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   ::testing::InitGoogleTest(&argc, argv);
   std::unique_ptr<tbb::global_control> limit;
   if (const char* env = std::getenv("MCCD_TEST_THREADS")) {
