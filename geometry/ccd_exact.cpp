@@ -243,12 +243,68 @@ bool orient3d_if_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
   det = acc;
   return true;
 }
+
+// det(b - a, c - a, d - a) exactly when the nine differences are exact doubles (two points
+// closer than a factor 2 in a coordinate subtract exactly: nearby points of a mesh mostly do):
+// each 2x2 minor of c - a and d - a as two two-products (an expansion of at most 4 terms),
+// scaled by a component of b - a (at most 8), the three summed (at most 24); fixed arrays,
+// no copies. Returns the sign, or 2 when some difference is inexact (the general path then).
+int orient3d_exact_differences(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  double B[3], C[3], D[3];
+  const Vec3* rows[3] = {&b, &c, &d};
+  double* out[3] = {B, C, D};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) {
+      double e;
+      two_sum((*rows[r])[k], -a[k], out[r][k], e);
+      if (e != 0) return 2;
+    }
+  // Grow-Expansion with zero elimination: h (n terms) += q, in place; h has room for one more.
+  auto grow = [](double* h, int& n, double q) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      double s, t;
+      two_sum(q, h[i], s, t);
+      if (t != 0) h[m++] = t;
+      q = s;
+    }
+    if (q != 0) h[m++] = q;
+    n = m;
+  };
+  double det[24];
+  int nd = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    if (B[i] == 0) continue;
+    // the minor C_j D_k - C_k D_j
+    double minor[4];
+    int nm = 0;
+    double p1, p0, q1, q0;
+    two_prod(C[j], D[k], p1, p0);
+    two_prod(C[k], D[j], q1, q0);
+    grow(minor, nm, p0);
+    grow(minor, nm, p1);
+    grow(minor, nm, -q0);
+    grow(minor, nm, -q1);
+    if (nm == 0) continue;
+    // B_i times the minor (Scale-Expansion), each term added to det
+    for (int t = 0; t < nm; ++t) {
+      double x1, x0;
+      two_prod(minor[t], B[i], x1, x0);
+      grow(det, nd, x0);
+      grow(det, nd, x1);
+    }
+  }
+  return nd == 0 ? 0 : (det[nd - 1] > 0 ? 1 : -1);
+}
+
 }  // namespace
 
 int exact_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 pts[4] = {a, b, c, d};
   if (!in_range(pts, 4)) return 2;
   if (double det; orient3d_if_exact(a, b, c, d, det)) return det > 0 ? 1 : (det < 0 ? -1 : 0);
+  if (const int s = orient3d_exact_differences(a, b, c, d); s != 2) return s;
   const V3E B = vdiff(b, a), C = vdiff(c, a), D = vdiff(d, a);
   const Exp det = vdot(B, vcross(C, D));
   if (!det.ok) return 2;

@@ -89,6 +89,31 @@ TEST(CcdExactPredicates, Orient3dMatchesGmp) {
     shared_zeros += e == 0;
   }
   EXPECT_EQ(shared_zeros, 1500);
+  // Points in one binade per coordinate ([1, 2), scaled): every difference is an exact double,
+  // but on a grid of 2^-40 their products are not (the fixed-size path for exact differences,
+  // between the plain evaluation and the general expansions). Half exactly coplanar (a dyadic
+  // combination that stays on the grid), a quarter of those an ulp off, half general.
+  int binade_zeros = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double s = std::ldexp(1.0, ex(rng));
+    auto grid = [&] { return std::ldexp(std::floor((1.5 + u(rng) / 4) * 0x1p40), -40); };
+    Vec3 p[4];
+    for (int k = 0; k < 3; ++k) p[k] = Vec3(grid(), grid(), grid());
+    if (i % 2 == 0) {
+      const double r = std::ldexp(std::floor((u(rng) + 1) * 4), -5), q = std::ldexp(std::floor((u(rng) + 1) * 4), -5);
+      p[3] = p[0] + r * (p[1] - p[0]) + q * (p[2] - p[0]);
+      if (i % 8 == 0) p[3] = bump(p[3], (i / 8) % 3, (i / 8) % 2 ? 1 : -1);
+    } else {
+      p[3] = Vec3(grid(), grid(), grid());
+    }
+    for (Vec3& v : p) v *= s;
+    for (int r = 1; r < 4; ++r)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(mpq_class(p[r][k] - p[0][k]), mpq_class(p[r][k]) - mpq_class(p[0][k]));
+    const int e = detail::exact_orient3d(p[0], p[1], p[2], p[3]);
+    ASSERT_EQ(e, gmp_orient3d(p[0], p[1], p[2], p[3])) << "one-binade case " << i;
+    binade_zeros += e == 0;
+  }
+  EXPECT_GT(binade_zeros, 5000);
   // Out of the exact range: unknown.
   EXPECT_EQ(detail::exact_orient3d(Vec3(0x1p-200, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), 2);
 }
