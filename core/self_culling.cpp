@@ -8,7 +8,6 @@
 #include <atomic>
 #include <cmath>
 
-
 namespace mccd::detail {
 
 namespace {
@@ -110,6 +109,12 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
   return s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3 ? s0 : 0;
 }
 
+void SelfCulling::star_signs(const LaneKernels& lanes, const double* x0, const double* x1,
+                             const std::uint32_t (*corners)[3], std::size_t n, const double* m0, const double* m1,
+                             std::int8_t* signs) {
+  lanes.star_signs(x0, x1, corners, n, m0, m1, kBound3, kTiny, signs);
+}
+
 bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
                                  const Positions& x1, const Executor& ex, const RayMeets& ray_meets) const {
   const std::uint32_t node = closed_[k];
@@ -138,18 +143,32 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
   // subtree's nodes in parallel (a large surface is most of the step's certification), each
   // block's common sign merged into one (any order gives the same outcome).
   std::atomic<int> common{2};  // 2: none yet; 0: failed
+  // The triangles' signs a batch at a time in vector lanes (LaneKernels::star_signs: star_sign's
+  // values bit for bit).
+  const LaneKernels& lanes = lane_kernels();
+  const double c0[3] = {m0[0], m0[1], m0[2]}, c1[3] = {m1[0], m1[1], m1[2]};
   ex.dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
+    constexpr unsigned kBatch = 64;
+    std::uint32_t corners[kBatch + BvhTopology::kMaxLeaf][3];
+    std::int8_t signs[kBatch + BvhTopology::kMaxLeaf];
+    unsigned queued = 0;
     int s = 2;
+    auto flush = [&] {
+      star_signs(lanes, x0.data(), x1.data(), corners, queued, c0, c1, signs);
+      for (unsigned q = 0; q < queued && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
+      queued = 0;
+    };
     for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
       if (!bvh.leaf(i)) continue;
       const std::uint32_t* ids = bvh.leaf_triangles(i);
-      for (std::uint32_t q = 0; q < bvh.leaf_count(i) && s != 0; ++q) {
+      for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
         const Triangle& t = faces[ids[q]];
-        const int sq = star_sign(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), m0, x1.point(t[0]),
-                                 x1.point(t[1]), x1.point(t[2]), m1);
-        s = s == 2 || s == sq ? sq : 0;
+        corners[queued][0] = t[0], corners[queued][1] = t[1], corners[queued][2] = t[2];
+        ++queued;
       }
+      if (queued >= kBatch) flush();
     }
+    if (queued && s != 0) flush();
     if (s == 2) return;  // no leaf in this block
     int expected = 2;
     if (!common.compare_exchange_strong(expected, s, std::memory_order_relaxed) && expected != s)

@@ -56,6 +56,7 @@
 #include <mccd/core/bvh.h>
 #include <mccd/core/executor.h>
 #include <mccd/core/scene_topology.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/positions.h>
 
 namespace mccd::detail {
@@ -110,6 +111,12 @@ class SelfCulling {
   /// every point moving linearly from its `0` to its `1` position. Exposed for the tests.
   static int star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,
                        const Vec3& b1, const Vec3& c1, const Vec3& p1);
+  /// star_sign of n triangles, corners[i] (vertex ids) at the interleaved positions x0 and x1,
+  /// seen from m0 and m1 (3 doubles each), in the vector lanes of `lanes`: signs[i], star_sign's
+  /// values bit for bit at every SIMD level. Exposed for the tests.
+  static void star_signs(const LaneKernels& lanes, const double* x0, const double* x1,
+                         const std::uint32_t (*corners)[3], std::size_t n, const double* m0, const double* m1,
+                         std::int8_t* signs);
   /// Whether BVH node n is a closed surface (a candidate for the central-projection
   /// certificate).
   bool closed(std::uint32_t n) const { return std::binary_search(closed_.begin(), closed_.end(), n); }

@@ -102,6 +102,12 @@ struct LaneKernels {
   /// the same operations in the same order, a query per lane.
   void (*fast_tests)(bool vertex_face, const double* x0, const double* x1, const std::uint32_t (*ids)[4],
                      std::size_t n, std::uint8_t* decided, double* toi);
+  /// core/self_culling.cpp's star_sign (the orientation of a moving triangle seen from a moving
+  /// point: -1, 0 or +1, certain over the step) for `n` triangles, corners[i] (vertex ids) at
+  /// positions x0 and x1, seen from m0 at t = 0 and m1 at t = 1: signs[i], its operations in its
+  /// order, a triangle per lane (bit for bit its values); `bound` and `tiny` its constants.
+  void (*star_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
+                     const double* m0, const double* m1, double bound, double tiny, std::int8_t* signs);
   SimdLevel level;
 };
 

@@ -592,4 +592,47 @@ void fast_tests(bool vertex_face, const double* x0, const double* x1, const std:
     fast_tests_of<false>(x0, x1, ids, n, decided, toi);
 }
 
-const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, Ops::kLevel};
+/// LaneKernels::star_signs: core/self_culling.cpp's star_sign, a triangle per lane, its
+/// operations in its order (Eigen's componentwise differences and sums, its cross and dot).
+void star_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n, const double* m0,
+                const double* m1, double bound, double tiny, std::int8_t* signs) {
+  using D = DOps;
+  constexpr unsigned W = D::kLanes;
+  const P3 c0{D::set1(m0[0]), D::set1(m0[1]), D::set1(m0[2])}, c1{D::set1(m1[0]), D::set1(m1[1]), D::set1(m1[2])};
+  auto max_norm = [](const P3& v) { return D::max(D::max(D::abs(v.x), D::abs(v.y)), D::abs(v.z)); };
+  const D::V k18 = D::set1(18), kb = D::set1(bound), knb = D::set1(-bound), kt = D::set1(tiny);
+  for (std::size_t first = 0; first < n; first += W) {
+    const unsigned m = static_cast<unsigned>(std::min<std::size_t>(W, n - first));
+    alignas(64) double buf[2][3][3][W];
+    for (unsigned i = 0; i < W; ++i) {
+      const std::uint32_t* t = corners[first + (i < m ? i : 0)];
+      for (unsigned k = 0; k < 3; ++k)
+        for (unsigned c = 0; c < 3; ++c) {
+          buf[0][k][c][i] = x0[3 * std::size_t(t[k]) + c];
+          buf[1][k][c][i] = x1[3 * std::size_t(t[k]) + c];
+        }
+    }
+    P3 p[2][3];
+    for (unsigned e = 0; e < 2; ++e)
+      for (unsigned k = 0; k < 3; ++k) p[e][k] = P3{D::load(buf[e][k][0]), D::load(buf[e][k][1]), D::load(buf[e][k][2])};
+    const P3 u0 = sub3(p[0][1], p[0][0]), u1 = sub3(p[1][1], p[1][0]), v0 = sub3(p[0][2], p[0][0]),
+             v1 = sub3(p[1][2], p[1][0]), w0 = sub3(c0, p[0][0]), w1 = sub3(c1, p[1][0]);
+    const P3 n0 = cross3(u0, v0), n1 = cross3(u1, v1), nm = add3(cross3(u0, v1), cross3(u1, v0));
+    const D::V d[4] = {dot3(n0, w0), D::add(dot3(nm, w0), dot3(n0, w1)), D::add(dot3(nm, w1), dot3(n1, w0)),
+                       dot3(n1, w1)};
+    // std::max(a, b) is a < b ? b : a, which select() gives exactly (also for equal values)
+    auto max2 = [](D::V a, D::V b) { return D::select(D::gt(b, a), b, a); };
+    const D::V scale = D::mul(D::mul(D::mul(k18, max2(max_norm(u0), max_norm(u1))), max2(max_norm(v0), max_norm(v1))),
+                              max2(max_norm(w0), max_norm(w1)));
+    const unsigned ok = D::gt(scale, kt);
+    const D::V hi = D::mul(kb, scale), lo = D::mul(knb, scale);
+    unsigned pos = ok, neg = ok;
+    for (const D::V v : d) {
+      pos &= D::gt(v, hi);
+      neg &= D::gt(lo, v);
+    }
+    for (unsigned i = 0; i < m; ++i) signs[first + i] = static_cast<std::int8_t>((pos >> i & 1u) - (neg >> i & 1u));
+  }
+}
+
+const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, &star_signs, Ops::kLevel};

@@ -3,12 +3,15 @@
 #include <mccd/core/bvh.h>
 #include <mccd/parallel/scene.h>
 #include <mccd/core/self_culling.h>
+#include <mccd/geometry/lane_masks.h>
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
+#include <vector>
 
 #include "fixtures/scenes.h"
 #include "fixtures/shapes.h"
@@ -371,6 +374,69 @@ TEST(SelfCulling, GeneratedScenesReportTheContactsOfBruteForce) {
     EXPECT_GT(certified, 0u) << name;
     if (std::string(name) == "spheres") {
       EXPECT_GT(culled, 0u) << name;
+    }
+  }
+}
+
+TEST(SelfCulling, StarSignsInLanesAreTheScalarSignsAtEveryLevel) {
+  // Triangles around a moving point: facing it (a certain sign either way), nearly edge-on or
+  // turning during the step (0), over scales from 2^-60 to 2^60 and one facing triangle whose
+  // scale is below the bound's (0, though its values are clear), at every SIMD level of this processor, in batches of every length.
+  std::vector<const LaneKernels*> levels;
+  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
+    if (const LaneKernels* k = lane_kernels_for(l)) levels.push_back(k);
+  ASSERT_GE(levels.size(), 2u);
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> ex(-60, 60);
+  constexpr std::size_t kTriangles = 3000, kSmall = kTriangles - 4;  // facing, its scale below the bound's
+  std::vector<double> x0(9 * kTriangles), x1(9 * kTriangles);
+  std::vector<std::array<std::uint32_t, 3>> corners(kTriangles);
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    const double s = t == kSmall ? 0x1p-450 : std::ldexp(1.0, ex(rng));
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const int kind = static_cast<int>(t % 4);
+    for (int k = 0; k < 3; ++k) {
+      // corners on a plane at distance 1 along dir (kind 0, 1), nearly through the centre
+      // (kind 2), or crossing it during the step (kind 3)
+      Vec3 tangent = Vec3(u(rng), u(rng), u(rng));
+      tangent -= tangent.dot(dir) * dir;
+      const Vec3 p0 = (kind == 2 ? 1e-13 : 1.0) * dir + tangent;
+      const Vec3 p1 = kind == 3 ? Vec3(-0.5 * dir + tangent) : Vec3(p0 + 0.1 * Vec3(u(rng), u(rng), u(rng)));
+      for (int c = 0; c < 3; ++c) {
+        x0[9 * t + 3 * k + c] = p0[c] * s;
+        x1[9 * t + 3 * k + c] = p1[c] * s;
+      }
+      corners[t][k] = static_cast<std::uint32_t>(3 * t + k);
+    }
+    if (kind == 1) std::swap(corners[t][1], corners[t][2]);  // the other orientation
+  }
+  const double m0[3] = {0.001, -0.002, 0.003}, m1[3] = {0.0012, -0.0018, 0.0031};
+  std::vector<std::int8_t> expected(kTriangles);
+  int counts[3] = {0, 0, 0};
+  auto point = [](const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); };
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    const auto& c = corners[t];
+    expected[t] = static_cast<std::int8_t>(SelfCulling::star_sign(
+        point(x0, c[0]), point(x0, c[1]), point(x0, c[2]), Vec3(m0[0], m0[1], m0[2]), point(x1, c[0]),
+        point(x1, c[1]), point(x1, c[2]), Vec3(m1[0], m1[1], m1[2])));
+    ++counts[expected[t] + 1];
+  }
+  EXPECT_GT(counts[0], 400);  // -1
+  EXPECT_GT(counts[1], 800);  // 0
+  EXPECT_GT(counts[2], 400);  // +1
+  EXPECT_EQ(expected[kSmall], 0);
+  const auto* ids = reinterpret_cast<const std::uint32_t(*)[3]>(corners.data());
+  for (const LaneKernels* k : levels) {
+    std::vector<std::int8_t> got(kTriangles + 1, 7);
+    SelfCulling::star_signs(*k, x0.data(), x1.data(), ids, kTriangles, m0, m1, got.data());
+    for (std::size_t t = 0; t < kTriangles; ++t) ASSERT_EQ(got[t], expected[t]) << to_string(k->level) << " triangle " << t;
+    EXPECT_EQ(got[kTriangles], 7) << "written past the last triangle";
+    for (std::size_t n = 1; n <= 37; ++n) {  // every tail length, from an odd start
+      std::vector<std::int8_t> part(n + 1, 7);
+      SelfCulling::star_signs(*k, x0.data(), x1.data(), ids + 5, n, m0, m1, part.data());
+      for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(part[t], expected[5 + t]) << to_string(k->level) << " n " << n;
+      EXPECT_EQ(part[n], 7);
     }
   }
 }
