@@ -109,6 +109,11 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
   return s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3 ? s0 : 0;
 }
 
+void SelfCulling::normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
+                                        const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits) {
+  lanes.normal_signs(x0, x1, corners, n, kBound, kTiny, bits);
+}
+
 void SelfCulling::star_signs(const LaneKernels& lanes, const double* x0, const double* x1,
                              const std::uint32_t (*corners)[3], std::size_t n, const double* m0, const double* m1,
                              std::int8_t* signs) {
@@ -320,6 +325,7 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
                           const Executor& ex, const RayMeets& ray_meets) {
+  const LaneKernels& lanes = lane_kernels();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
   // Closed surfaces first (each certified whole covers every node below it), in parallel.
@@ -352,13 +358,19 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
         signs_[node] = 0;  // covered whole; never read this step
         continue;
       }
-      unsigned s = 0x3F;
+      // The leaf's triangles in vector lanes (LaneKernels::normal_signs: normal_signs' values
+      // bit for bit), every axis: the signs they all share are the same as axis by axis.
       const std::uint32_t* ids = bvh.leaf_triangles(node);
-      for (std::uint32_t k = 0; k < bvh.leaf_count(node) && s; ++k) {
+      const std::uint32_t count = bvh.leaf_count(node);
+      std::uint32_t corners[BvhTopology::kMaxLeaf][3];
+      std::uint8_t bits[BvhTopology::kMaxLeaf];
+      for (std::uint32_t k = 0; k < count; ++k) {
         const Triangle& t = faces[ids[k]];
-        s = normal_signs(x0.point(t[0]), x0.point(t[1]), x0.point(t[2]), x1.point(t[0]), x1.point(t[1]),
-                         x1.point(t[2]), s);
+        corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
       }
+      normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, bits);
+      unsigned s = 0x3F;
+      for (std::uint32_t k = 0; k < count; ++k) s &= bits[k];
       signs_[node] = static_cast<std::uint8_t>(s);
     }
   });

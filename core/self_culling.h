@@ -107,6 +107,11 @@ class SelfCulling {
   /// Only the axes with a bit in `wanted` are looked at (the others' bits are 0).
   static unsigned normal_signs(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
                                const Vec3& c1, unsigned wanted = 0x3F);
+  /// normal_signs (every axis) of n triangles, corners[i] (vertex ids) at the interleaved
+  /// positions x0 and x1, in the vector lanes of `lanes`: bits[i], normal_signs' values bit for
+  /// bit at every SIMD level. Exposed for the tests.
+  static void normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
+                                    const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits);
   /// The sign (+1, -1, or 0: not certain) that det(b - a, c - a, p - a) keeps over the step,
   /// every point moving linearly from its `0` to its `1` position. Exposed for the tests.
   static int star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,

@@ -108,6 +108,11 @@ struct LaneKernels {
   /// order, a triangle per lane (bit for bit its values); `bound` and `tiny` its constants.
   void (*star_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
                      const double* m0, const double* m1, double bound, double tiny, std::int8_t* signs);
+  /// core/self_culling.cpp's normal_signs with every axis wanted, for `n` triangles given as
+  /// for star_signs: bits[i], its operations in its order, a triangle per lane; `bound` and
+  /// `tiny` its constants.
+  void (*normal_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
+                       double bound, double tiny, std::uint8_t* bits);
   SimdLevel level;
 };
 

@@ -635,4 +635,65 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
   }
 }
 
-const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, &star_signs, Ops::kLevel};
+/// LaneKernels::normal_signs: core/self_culling.cpp's normal_signs (every axis wanted), a
+/// triangle per lane, its operations in its order (product_sign<true>, bernstein_sign).
+void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n, double bound,
+                  double tiny, std::uint8_t* bits) {
+  using D = DOps;
+  constexpr unsigned W = D::kLanes;
+  const D::V kb = D::set1(bound), knb = D::set1(-bound), kt = D::set1(tiny);
+  for (std::size_t first = 0; first < n; first += W) {
+    const unsigned m = static_cast<unsigned>(std::min<std::size_t>(W, n - first));
+    alignas(64) double buf[2][3][3][W];
+    for (unsigned i = 0; i < W; ++i) {
+      const std::uint32_t* t = corners[first + (i < m ? i : 0)];
+      for (unsigned k = 0; k < 3; ++k)
+        for (unsigned c = 0; c < 3; ++c) {
+          buf[0][k][c][i] = x0[3 * std::size_t(t[k]) + c];
+          buf[1][k][c][i] = x1[3 * std::size_t(t[k]) + c];
+        }
+    }
+    D::V u[2][3], v[2][3];  // b - a and c - a at t = 0, 1, by coordinate
+    for (unsigned e = 0; e < 2; ++e)
+      for (unsigned c = 0; c < 3; ++c) {
+        const D::V a = D::load(buf[e][0][c]);
+        u[e][c] = D::sub(D::load(buf[e][1][c]), a);
+        v[e][c] = D::sub(D::load(buf[e][2][c]), a);
+      }
+    unsigned lane_bits[3][2];  // per axis: the lanes certainly positive, certainly negative
+    for (int d = 0; d < 3; ++d) {
+      const int i = (d + 1) % 3, j = (d + 2) % 3;
+      // product_sign<true>'s term: p - q, and |p| + |q| into the magnitude
+      auto term = [&](const D::V* a, const D::V* b, D::V& mag) {
+        const D::V p = D::mul(a[i], b[j]), q = D::mul(a[j], b[i]);
+        mag = D::add(D::abs(p), D::abs(q));
+        return D::sub(p, q);
+      };
+      D::V e0, e1a, e1b, e2;
+      const D::V c0 = term(u[0], v[0], e0);
+      const D::V c1 = D::add(term(u[0], v[1], e1a), term(u[1], v[0], e1b));
+      const D::V c2 = term(u[1], v[1], e2);
+      const D::V e1 = D::add(e1a, e1b);
+      const D::V cs[3] = {c0, c1, c2}, es[3] = {e0, e1, e2};
+      unsigned pos = ~0u, neg = ~0u, normal = ~0u;
+      for (int k = 0; k < 3; ++k) {
+        pos &= D::gt(cs[k], D::mul(kb, es[k]));
+        neg &= D::gt(D::mul(knb, es[k]), cs[k]);
+        normal &= D::gt(es[k], kt);
+      }
+      lane_bits[d][0] = pos & normal;
+      lane_bits[d][1] = neg & normal;
+    }
+    for (unsigned l = 0; l < m; ++l) {
+      unsigned b = 0;
+      for (int d = 0; d < 3; ++d) {
+        const unsigned p = lane_bits[d][0] >> l & 1u, q = lane_bits[d][1] >> l & 1u;
+        // pos - neg: +1 when only pos, -1 when only neg, 0 when both or neither
+        b |= (p && !q ? 1u : !p && q ? 2u : 0u) << (2 * d);
+      }
+      bits[first + l] = static_cast<std::uint8_t>(b);
+    }
+  }
+}
+
+const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, &star_signs, &normal_signs, Ops::kLevel};

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <random>
 #include <set>
@@ -374,6 +375,70 @@ TEST(SelfCulling, GeneratedScenesReportTheContactsOfBruteForce) {
     EXPECT_GT(certified, 0u) << name;
     if (std::string(name) == "spheres") {
       EXPECT_GT(culled, 0u) << name;
+    }
+  }
+}
+
+TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
+  // Triangles that keep their normal's signs, that turn during the step, that are nearly
+  // axis-aligned (a component near 0), over scales from 2^-60 to 2^60 and one whose scale is
+  // below the bound's, at every SIMD level of this processor, in batches of every length.
+  std::vector<const LaneKernels*> levels;
+  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
+    if (const LaneKernels* k = lane_kernels_for(l)) levels.push_back(k);
+  ASSERT_GE(levels.size(), 2u);
+  std::mt19937_64 rng(777);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> ex(-60, 60);
+  constexpr std::size_t kTriangles = 3000, kSmall = kTriangles - 4;
+  std::vector<double> x0(9 * kTriangles), x1(9 * kTriangles);
+  std::vector<std::array<std::uint32_t, 3>> corners(kTriangles);
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    const double s = t == kSmall ? 0x1p-460 : std::ldexp(1.0, ex(rng));
+    const int kind = static_cast<int>(t % 4);
+    Vec3 p0[3];
+    for (int k = 0; k < 3; ++k) {
+      p0[k] = Vec3(u(rng), u(rng), u(rng));
+      if (kind == 2) p0[k].z() = 1e-14 * u(rng);  // nearly in the plane z = 0
+    }
+    // nearly a segment: c - a close to a multiple of b - a, every normal component near its
+    // rounding bound (decided by the bound's exact magnitude)
+    if (kind == 3) p0[2] = p0[0] + u(rng) * (p0[1] - p0[0]) + std::ldexp(u(rng), -47) * Vec3(u(rng), u(rng), u(rng));
+    for (int k = 0; k < 3; ++k) {
+      const double move = kind == 3 ? std::ldexp(1.0, -47) : 0.05;
+      const Vec3 p1 = kind == 1 ? Vec3(-p0[k]) : Vec3(p0[k] + move * Vec3(u(rng), u(rng), u(rng)));
+      for (int c = 0; c < 3; ++c) {
+        x0[9 * t + 3 * k + c] = p0[k][c] * s;
+        x1[9 * t + 3 * k + c] = p1[c] * s;
+      }
+      corners[t][k] = static_cast<std::uint32_t>(3 * t + k);
+    }
+  }
+  std::vector<std::uint8_t> expected(kTriangles);
+  int axes_signed = 0, none = 0;
+  auto point = [](const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); };
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    const auto& c = corners[t];
+    expected[t] = static_cast<std::uint8_t>(SelfCulling::normal_signs(point(x0, c[0]), point(x0, c[1]), point(x0, c[2]),
+                                                                       point(x1, c[0]), point(x1, c[1]), point(x1, c[2])));
+    axes_signed += std::popcount(unsigned(expected[t]));
+    none += expected[t] == 0;
+  }
+  EXPECT_GT(axes_signed, 2000);
+  EXPECT_GT(none, 300);
+  EXPECT_EQ(expected[kSmall], 0);
+  const auto* ids = reinterpret_cast<const std::uint32_t(*)[3]>(corners.data());
+  for (const LaneKernels* k : levels) {
+    std::vector<std::uint8_t> got(kTriangles + 1, 0xEE);
+    SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids, kTriangles, got.data());
+    for (std::size_t t = 0; t < kTriangles; ++t)
+      ASSERT_EQ(int(got[t]), int(expected[t])) << to_string(k->level) << " triangle " << t;
+    EXPECT_EQ(got[kTriangles], 0xEE) << "written past the last triangle";
+    for (std::size_t n = 1; n <= 37; ++n) {
+      std::vector<std::uint8_t> part(n + 1, 0xEE);
+      SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids + 7, n, part.data());
+      for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(int(part[t]), int(expected[7 + t])) << to_string(k->level) << " n " << n;
+      EXPECT_EQ(part[n], 0xEE);
     }
   }
 }
