@@ -46,29 +46,30 @@ inline void push(Exp& h, double x) {
   h.v[h.n++] = x;
 }
 
-// h = e + f: Shewchuk's Grow-Expansion with zero elimination, once per term of f, in two
-// scratch buffers (no copies of whole expansions).
+// Grow-Expansion with zero elimination (Shewchuk): h (n terms) += q, in place (each term is
+// read before its slot is written); h has room for one more term.
+inline void grow(double* h, int& n, double q) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    double s, t;
+    two_sum(q, h[i], s, t);
+    if (t != 0) h[m++] = t;
+    q = s;
+  }
+  if (q != 0) h[m++] = q;
+  n = m;
+}
+
+// h = e + f: grow() once per term of f, in one scratch buffer.
 Exp sum(const Exp& e, const Exp& f) {
   Exp h;
   h.ok = e.ok && f.ok;
   if (!h.ok) return h;
-  double buf[2][2 * kCap + 2];
-  int n = e.n, cur = 0;
-  for (int i = 0; i < n; ++i) buf[0][i] = e.v[i];
+  double buf[2 * kCap + 2];
+  int n = e.n;
+  for (int i = 0; i < n; ++i) buf[i] = e.v[i];
   for (int j = 0; j < f.n; ++j) {
-    const double* src = buf[cur];
-    double* dst = buf[1 - cur];
-    int m = 0;
-    double q = f.v[j];
-    for (int i = 0; i < n; ++i) {
-      double s, t;
-      two_sum(q, src[i], s, t);
-      if (t != 0) dst[m++] = t;
-      q = s;
-    }
-    if (q != 0) dst[m++] = q;
-    n = m;
-    cur = 1 - cur;
+    grow(buf, n, f.v[j]);
     if (n > 2 * kCap) {
       h.ok = false;
       return h;
@@ -78,7 +79,7 @@ Exp sum(const Exp& e, const Exp& f) {
     h.ok = false;
     return h;
   }
-  for (int i = 0; i < n; ++i) h.v[i] = buf[cur][i];
+  for (int i = 0; i < n; ++i) h.v[i] = buf[i];
   h.n = n;
   return h;
 }
@@ -259,18 +260,6 @@ int orient3d_exact_differences(const Vec3& a, const Vec3& b, const Vec3& c, cons
       two_sum((*rows[r])[k], -a[k], out[r][k], e);
       if (e != 0) return 2;
     }
-  // Grow-Expansion with zero elimination: h (n terms) += q, in place; h has room for one more.
-  auto grow = [](double* h, int& n, double q) {
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      double s, t;
-      two_sum(q, h[i], s, t);
-      if (t != 0) h[m++] = t;
-      q = s;
-    }
-    if (q != 0) h[m++] = q;
-    n = m;
-  };
   double det[24];
   int nd = 0;
   for (int i = 0; i < 3; ++i) {

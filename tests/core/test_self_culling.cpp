@@ -16,6 +16,7 @@
 
 #include "fixtures/scenes.h"
 #include "fixtures/shapes.h"
+#include "support/simd_levels.h"
 
 using namespace mccd;
 using namespace mccd::detail;
@@ -379,13 +380,18 @@ TEST(SelfCulling, GeneratedScenesReportTheContactsOfBruteForce) {
   }
 }
 
+namespace {
+
+/// Point v of interleaved positions.
+Vec3 point(const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); }
+
+}  // namespace
+
 TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
   // Triangles that keep their normal's signs, that turn during the step, that are nearly
   // axis-aligned (a component near 0), over scales from 2^-60 to 2^60 and one whose scale is
   // below the bound's, at every SIMD level of this processor, in batches of every length.
-  std::vector<const LaneKernels*> levels;
-  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
-    if (const LaneKernels* k = lane_kernels_for(l)) levels.push_back(k);
+  const std::vector<const LaneKernels*> levels = test::available_levels();
   ASSERT_GE(levels.size(), 2u);
   std::mt19937_64 rng(777);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -416,7 +422,6 @@ TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
   }
   std::vector<std::uint8_t> expected(kTriangles);
   int axes_signed = 0, none = 0;
-  auto point = [](const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); };
   for (std::size_t t = 0; t < kTriangles; ++t) {
     const auto& c = corners[t];
     expected[t] = static_cast<std::uint8_t>(SelfCulling::normal_signs(point(x0, c[0]), point(x0, c[1]), point(x0, c[2]),
@@ -447,9 +452,7 @@ TEST(SelfCulling, StarSignsInLanesAreTheScalarSignsAtEveryLevel) {
   // Triangles around a moving point: facing it (a certain sign either way), nearly edge-on or
   // turning during the step (0), over scales from 2^-60 to 2^60 and one facing triangle whose
   // scale is below the bound's (0, though its values are clear), at every SIMD level of this processor, in batches of every length.
-  std::vector<const LaneKernels*> levels;
-  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
-    if (const LaneKernels* k = lane_kernels_for(l)) levels.push_back(k);
+  const std::vector<const LaneKernels*> levels = test::available_levels();
   ASSERT_GE(levels.size(), 2u);
   std::mt19937_64 rng(4242);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -479,7 +482,6 @@ TEST(SelfCulling, StarSignsInLanesAreTheScalarSignsAtEveryLevel) {
   const double m0[3] = {0.001, -0.002, 0.003}, m1[3] = {0.0012, -0.0018, 0.0031};
   std::vector<std::int8_t> expected(kTriangles);
   int counts[3] = {0, 0, 0};
-  auto point = [](const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); };
   for (std::size_t t = 0; t < kTriangles; ++t) {
     const auto& c = corners[t];
     expected[t] = static_cast<std::int8_t>(SelfCulling::star_sign(

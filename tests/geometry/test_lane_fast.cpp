@@ -20,17 +20,12 @@
 #include <string>
 #include <vector>
 
+#include "support/simd_levels.h"
+
 using namespace mccd;
 using namespace mccd::detail;
 
 namespace {
-
-std::vector<const LaneKernels*> available_levels() {
-  std::vector<const LaneKernels*> out;
-  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
-    if (const LaneKernels* k = lane_kernels_for(l)) out.push_back(k);
-  return out;
-}
 
 /// Queries of one kind as position arrays indexed by vertex id (four fresh vertices each, in
 /// a shuffled order), as the engine hands them to the kernels.
@@ -119,7 +114,7 @@ bool direct_way(CcdKind kind, const CcdPoints& p) {
 }  // namespace
 
 TEST(LaneFastTests, DecideAsTheScalarTestAndLeaveTheRestOpen) {
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   std::mt19937_64 rng(2026);
   for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
     const bool vf = kind == CcdKind::VertexFace;
@@ -204,7 +199,7 @@ TEST(LaneFastTests, EveryLaneOfAPartBlockIsItsOwnQuery) {
   for (int n = 0; n < 17; ++n) set.add(n % 2 ? crossing(rng, true, false) : random_query(rng), rng);
   const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[17][4]);
   for (std::size_t q = 0; q < 17; ++q) std::copy(set.ids[q].begin(), set.ids[q].end(), raw[q]);
-  for (const LaneKernels* k : available_levels()) {
+  for (const LaneKernels* k : test::available_levels()) {
     std::vector<std::uint8_t> all(17);
     std::vector<double> all_toi(17, -1);
     k->fast_tests(true, set.x0.data(), set.x1.data(), raw.get(), 17, all.data(), all_toi.data());
@@ -253,7 +248,7 @@ TEST(LaneFastTests, DecideAsTheScalarTestAtItsBounds) {
   // two neighbouring inputs of each change, every kernel decides as the scalar test or leaves
   // the query open, and rarely leaves open what the scalar fast path decides (a bound any
   // smaller or larger changes elsewhere).
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   std::mt19937_64 rng(61);
   std::uniform_real_distribution<double> U(-1, 1);
   int compared = 0, opened_decided = 0;

@@ -20,6 +20,8 @@
 #include <random>
 #include <vector>
 
+#include "support/simd_levels.h"
+
 using namespace mccd;
 using namespace mccd::detail;
 
@@ -39,13 +41,6 @@ bool coarse_overlap(const std::int16_t a[2 * Slabs], const std::int16_t b[2 * Sl
   bool apart = false;
   for (int s = 0; s < Slabs; ++s) apart |= (a[s] > b[Slabs + s]) | (b[s] > a[Slabs + s]);
   return !apart;
-}
-
-std::vector<const LaneKernels*> available_levels() {
-  std::vector<const LaneKernels*> out;
-  for (SimdLevel l : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512})
-    if (const LaneKernels* k = lane_kernels_for(l)) out.push_back(k);
-  return out;
 }
 
 std::int16_t random_bound(std::mt19937_64& rng) {
@@ -71,7 +66,7 @@ CoarseDop random_dop(std::mt19937_64& rng, unsigned slabs) {
 }  // namespace
 
 TEST(LaneMasks, EveryLevelMatchesThePlainTest) {
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   ASSERT_GE(levels.size(), 1u);
   std::mt19937_64 rng(11);
   for (int trial = 0; trial < 3000; ++trial) {
@@ -217,7 +212,7 @@ std::uint8_t expected_quarters(CcdKind kind, const CcdPoints& p, unsigned within
 }  // namespace
 
 TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> U(-1, 1);
   for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
@@ -270,7 +265,7 @@ TEST(LaneMasks, CoplanarQuartersMatchTheFilterAtItsErrorBounds) {
   // coefficients (or its halves' or quarters') then lie at their error bounds, and the kernels
   // must change between the same two neighbouring inputs (a bound any smaller or larger
   // changes elsewhere).
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   std::mt19937_64 rng(33);
   std::uniform_real_distribution<double> U(-1, 1);
   int flips = 0;
@@ -344,7 +339,7 @@ TEST(CoarseVolumes, GridKeeperHoldsThePositionsAndKeepsItsGrid) {
 }
 
 TEST(LaneMasks, MergesOfLanesMatchThePlainMerge) {
-  const auto levels = available_levels();
+  const auto levels = test::available_levels();
   std::mt19937_64 rng(17);
   for (int trial = 0; trial < 2000; ++trial) {
     const unsigned slabs = trial % 2 ? 9 : 3;
