@@ -614,7 +614,8 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
     }
     P3 p[2][3];
     for (unsigned e = 0; e < 2; ++e)
-      for (unsigned k = 0; k < 3; ++k) p[e][k] = P3{D::load(buf[e][k][0]), D::load(buf[e][k][1]), D::load(buf[e][k][2])};
+      for (unsigned k = 0; k < 3; ++k)
+        p[e][k] = P3{D::load(buf[e][k][0]), D::load(buf[e][k][1]), D::load(buf[e][k][2])};
     const P3 u0 = sub3(p[0][1], p[0][0]), u1 = sub3(p[1][1], p[1][0]), v0 = sub3(p[0][2], p[0][0]),
              v1 = sub3(p[1][2], p[1][0]), w0 = sub3(c0, p[0][0]), w1 = sub3(c1, p[1][0]);
     const P3 n0 = cross3(u0, v0), n1 = cross3(u1, v1), nm = add3(cross3(u0, v1), cross3(u1, v0));
@@ -696,4 +697,5 @@ void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corn
   }
 }
 
-const LaneKernels kernels{&dops, &pair_masks, &self_masks, &merge_lanes, &coplanar_quarters, &fast_tests, &star_signs, &normal_signs, Ops::kLevel};
+const LaneKernels kernels{&dops,       &pair_masks, &self_masks,   &merge_lanes, &coplanar_quarters,
+                          &fast_tests, &star_signs, &normal_signs, Ops::kLevel};

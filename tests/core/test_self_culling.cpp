@@ -424,8 +424,8 @@ TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
   int axes_signed = 0, none = 0;
   for (std::size_t t = 0; t < kTriangles; ++t) {
     const auto& c = corners[t];
-    expected[t] = static_cast<std::uint8_t>(SelfCulling::normal_signs(point(x0, c[0]), point(x0, c[1]), point(x0, c[2]),
-                                                                       point(x1, c[0]), point(x1, c[1]), point(x1, c[2])));
+    expected[t] = static_cast<std::uint8_t>(SelfCulling::normal_signs(
+        point(x0, c[0]), point(x0, c[1]), point(x0, c[2]), point(x1, c[0]), point(x1, c[1]), point(x1, c[2])));
     axes_signed += std::popcount(unsigned(expected[t]));
     none += expected[t] == 0;
   }
@@ -442,7 +442,8 @@ TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
     for (std::size_t n = 1; n <= 37; ++n) {
       std::vector<std::uint8_t> part(n + 1, 0xEE);
       SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids + 7, n, part.data());
-      for (std::size_t t = 0; t < n; ++t) ASSERT_EQ(int(part[t]), int(expected[7 + t])) << to_string(k->level) << " n " << n;
+      for (std::size_t t = 0; t < n; ++t)
+        ASSERT_EQ(int(part[t]), int(expected[7 + t])) << to_string(k->level) << " n " << n;
       EXPECT_EQ(part[n], 0xEE);
     }
   }
@@ -450,8 +451,9 @@ TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
 
 TEST(SelfCulling, StarSignsInLanesAreTheScalarSignsAtEveryLevel) {
   // Triangles around a moving point: facing it (a certain sign either way), nearly edge-on or
-  // turning during the step (0), over scales from 2^-60 to 2^60 and one facing triangle whose
-  // scale is below the bound's (0, though its values are clear), at every SIMD level of this processor, in batches of every length.
+  // turning during the step (0), over scales from 2^-60 to 2^60, and one facing triangle whose
+  // scale is below the bound's (0, though its values are clear); at every SIMD level of this
+  // processor, in batches of every length.
   const std::vector<const LaneKernels*> levels = test::available_levels();
   ASSERT_GE(levels.size(), 2u);
   std::mt19937_64 rng(4242);
@@ -497,7 +499,8 @@ TEST(SelfCulling, StarSignsInLanesAreTheScalarSignsAtEveryLevel) {
   for (const LaneKernels* k : levels) {
     std::vector<std::int8_t> got(kTriangles + 1, 7);
     SelfCulling::star_signs(*k, x0.data(), x1.data(), ids, kTriangles, m0, m1, got.data());
-    for (std::size_t t = 0; t < kTriangles; ++t) ASSERT_EQ(got[t], expected[t]) << to_string(k->level) << " triangle " << t;
+    for (std::size_t t = 0; t < kTriangles; ++t)
+      ASSERT_EQ(got[t], expected[t]) << to_string(k->level) << " triangle " << t;
     EXPECT_EQ(got[kTriangles], 7) << "written past the last triangle";
     for (std::size_t n = 1; n <= 37; ++n) {  // every tail length, from an odd start
       std::vector<std::int8_t> part(n + 1, 7);
