@@ -592,6 +592,25 @@ void fast_tests(bool vertex_face, const double* x0, const double* x1, const std:
     fast_tests_of<false>(x0, x1, ids, n, decided, toi);
 }
 
+/// The corners of up to W triangles (corners[0..m), the rest repeating the first) at t = 0 and
+/// t = 1.
+inline void gather_triangles(const double* x0, const double* x1, const std::uint32_t (*corners)[3], unsigned m,
+                             P3 (&p)[2][3]) {
+  constexpr unsigned W = DOps::kLanes;
+  alignas(64) double buf[2][3][3][W];
+  for (unsigned i = 0; i < W; ++i) {
+    const std::uint32_t* t = corners[i < m ? i : 0];
+    for (unsigned k = 0; k < 3; ++k)
+      for (unsigned c = 0; c < 3; ++c) {
+        buf[0][k][c][i] = x0[3 * std::size_t(t[k]) + c];
+        buf[1][k][c][i] = x1[3 * std::size_t(t[k]) + c];
+      }
+  }
+  for (unsigned e = 0; e < 2; ++e)
+    for (unsigned k = 0; k < 3; ++k)
+      p[e][k] = P3{DOps::load(buf[e][k][0]), DOps::load(buf[e][k][1]), DOps::load(buf[e][k][2])};
+}
+
 /// LaneKernels::star_signs: core/self_culling.cpp's star_sign, a triangle per lane, its
 /// operations in its order (Eigen's componentwise differences and sums, its cross and dot).
 void star_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n, const double* m0,
@@ -603,19 +622,8 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
   const D::V k18 = D::set1(18), kb = D::set1(bound), knb = D::set1(-bound), kt = D::set1(tiny);
   for (std::size_t first = 0; first < n; first += W) {
     const unsigned m = static_cast<unsigned>(std::min<std::size_t>(W, n - first));
-    alignas(64) double buf[2][3][3][W];
-    for (unsigned i = 0; i < W; ++i) {
-      const std::uint32_t* t = corners[first + (i < m ? i : 0)];
-      for (unsigned k = 0; k < 3; ++k)
-        for (unsigned c = 0; c < 3; ++c) {
-          buf[0][k][c][i] = x0[3 * std::size_t(t[k]) + c];
-          buf[1][k][c][i] = x1[3 * std::size_t(t[k]) + c];
-        }
-    }
     P3 p[2][3];
-    for (unsigned e = 0; e < 2; ++e)
-      for (unsigned k = 0; k < 3; ++k)
-        p[e][k] = P3{D::load(buf[e][k][0]), D::load(buf[e][k][1]), D::load(buf[e][k][2])};
+    gather_triangles(x0, x1, corners + first, m, p);
     const P3 u0 = sub3(p[0][1], p[0][0]), u1 = sub3(p[1][1], p[1][0]), v0 = sub3(p[0][2], p[0][0]),
              v1 = sub3(p[1][2], p[1][0]), w0 = sub3(c0, p[0][0]), w1 = sub3(c1, p[1][0]);
     const P3 n0 = cross3(u0, v0), n1 = cross3(u1, v1), nm = add3(cross3(u0, v1), cross3(u1, v0));
@@ -645,22 +653,14 @@ void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corn
   const D::V kb = D::set1(bound), knb = D::set1(-bound), kt = D::set1(tiny);
   for (std::size_t first = 0; first < n; first += W) {
     const unsigned m = static_cast<unsigned>(std::min<std::size_t>(W, n - first));
-    alignas(64) double buf[2][3][3][W];
-    for (unsigned i = 0; i < W; ++i) {
-      const std::uint32_t* t = corners[first + (i < m ? i : 0)];
-      for (unsigned k = 0; k < 3; ++k)
-        for (unsigned c = 0; c < 3; ++c) {
-          buf[0][k][c][i] = x0[3 * std::size_t(t[k]) + c];
-          buf[1][k][c][i] = x1[3 * std::size_t(t[k]) + c];
-        }
-    }
+    P3 p[2][3];
+    gather_triangles(x0, x1, corners + first, m, p);
     D::V u[2][3], v[2][3];  // b - a and c - a at t = 0, 1, by coordinate
-    for (unsigned e = 0; e < 2; ++e)
-      for (unsigned c = 0; c < 3; ++c) {
-        const D::V a = D::load(buf[e][0][c]);
-        u[e][c] = D::sub(D::load(buf[e][1][c]), a);
-        v[e][c] = D::sub(D::load(buf[e][2][c]), a);
-      }
+    for (unsigned e = 0; e < 2; ++e) {
+      const P3 ue = sub3(p[e][1], p[e][0]), ve = sub3(p[e][2], p[e][0]);
+      u[e][0] = ue.x, u[e][1] = ue.y, u[e][2] = ue.z;
+      v[e][0] = ve.x, v[e][1] = ve.y, v[e][2] = ve.z;
+    }
     unsigned lane_bits[3][2];  // per axis: the lanes certainly positive, certainly negative
     for (int d = 0; d < 3; ++d) {
       const int i = (d + 1) % 3, j = (d + 2) % 3;
