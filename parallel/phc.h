@@ -2,17 +2,19 @@
 /// @file Internal: traversal from the root, serial and in parallel. The parallel one is the
 /// paper's PHC baseline (section 3.3), also used to build the front: the top of the BVTT is
 /// visited breadth-first, serially, round by round, until at least `min_tasks` nodes wait (or
-/// none); each waiting node's subtree is then traversed depth-first as one task, the tasks in
+/// none, or the top has done its budget of work, kTopWork); each waiting node's subtree is then traversed depth-first as one task, the tasks in
 /// parallel, and a task past its budget of work hands the rest of its stack to tasks of its
 /// own (traverse_split). Both splits depend only on the geometry, never on the thread count,
 /// and every node is visited exactly as in a serial traversal: the same tests, stops and
 /// contacts. PHC redoes this from the root every step; FBD (parallel/front_tracking.h) does it
 /// once per rebuild.
 #include <algorithm>
+#include <cstddef>
 #include <vector>
 
 #include <oneapi/tbb/partitioner.h>
 
+#include <mccd/core/bvh.h>
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/tbb_executor.h>
 
@@ -79,11 +81,20 @@ void traverse_split(const Bvtt& bvtt, WorkerOutput& out, ContactBuffer& contacts
   traverse_apart<record>(bvtt, left, out, contacts, task_work);
 }
 
+/// Work (Bvtt::traverse's units) the serial top of PHC does at most, and one visit more:
+/// where the BVTT stays narrow (a large cloth whose patches are certified free of
+/// self-collision has few node pairs per level), expanding it until phc_tasks() nodes wait
+/// was most of the traversal, on one thread. The tasks it leaves split themselves further
+/// as they run (traverse_split), so a few hundred are enough to start with.
+inline constexpr std::size_t kTopWork = 4 * kTaskWork;
+
 /// PHC: outs[0] receives the serial top's work, outs[1 + i] task i's (with the parts it split
-/// off, traverse_split); outs is resized to the number of tasks + 1.
+/// off, traverse_split); outs is resized to the number of tasks + 1. The top is expanded
+/// breadth-first until `min_tasks` nodes wait, none is left, or it has done `top_work` units
+/// of work (the nodes of the round it stopped in that it did not visit become tasks too).
 template <bool record, class Bvtt>
 void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts,
-                  std::size_t min_tasks = 0, std::size_t task_work = kTaskWork) {
+                  std::size_t min_tasks = 0, std::size_t task_work = kTaskWork, std::size_t top_work = kTopWork) {
   if (min_tasks == 0) min_tasks = phc_tasks(bvtt.bvh().size());
   if (outs.empty()) outs.resize(1);
   outs[0].clear();
@@ -91,10 +102,18 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
     outs.resize(1);
     return;
   }
+  const BvhTopology& bvh = bvtt.bvh();
   std::vector<NodePair> tasks{{0, 0}}, next;
-  while (!tasks.empty() && tasks.size() < min_tasks) {
+  std::size_t work = 0;
+  while (!tasks.empty() && tasks.size() < min_tasks && work < top_work) {
     next.clear();
-    for (const NodePair& n : tasks) bvtt.template visit<record>(n, outs[0], next);
+    std::size_t i = 0;
+    for (; i < tasks.size() && work < top_work; ++i) {
+      const NodePair n = tasks[i];
+      work += bvh.leaf(n.a) && bvh.leaf(n.b) ? Bvtt::kLeafPairWork : 1;
+      bvtt.template visit<record>(n, outs[0], next);
+    }
+    next.insert(next.end(), tasks.begin() + static_cast<std::ptrdiff_t>(i), tasks.end());
     tasks.swap(next);
   }
   bvtt.finish(outs[0]);

@@ -29,16 +29,17 @@ namespace mccd::detail {
 class RefitPlan {
  public:
   RefitPlan() = default;
-  /// Cuts the BVH into subtrees of at most ~1/256 of the nodes, and at least `min_subtree`
-  /// nodes so that small scenes stay one piece (16 threads get 16 subtrees each from a large
-  /// BVH: a static partition of a few large subtrees left threads idle). Subtrees whose triangles never move
+  /// Cuts the BVH into subtrees of at most ~1/1024 of the nodes, and at least `min_subtree`
+  /// nodes so that tiny scenes stay one piece (a large BVH gives 16 threads 64 subtrees each,
+  /// a 4K-triangle one a few each: a static partition of a few large subtrees left threads
+  /// idle, and a 16-thread refit of such a scene ran at the speed of one thread). Subtrees whose triangles never move
   /// (`is_static(node)`) are set apart: refitted once by run_static(), never by run().
   /// Nodes above the meshes' subtrees (mesh_of_node() == kMixed) are always in the top, so a
   /// static mesh's subtree is never part of a moving subtree.
   template <class IsStatic>
-  RefitPlan(const BvhTopology& bvh, const IsStatic& is_static, std::uint32_t min_subtree = 256) {
+  RefitPlan(const BvhTopology& bvh, const IsStatic& is_static, std::uint32_t min_subtree = 64) {
     if (bvh.size() == 0) return;
-    const std::uint32_t limit = std::max<std::uint32_t>(min_subtree, static_cast<std::uint32_t>(bvh.size() / 256));
+    const std::uint32_t limit = std::max<std::uint32_t>(min_subtree, static_cast<std::uint32_t>(bvh.size() / 1024));
     std::vector<std::uint32_t> stack{0};
     while (!stack.empty()) {
       const std::uint32_t n = stack.back();

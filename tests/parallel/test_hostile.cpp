@@ -142,6 +142,39 @@ TEST(Hostile, NonFiniteRefusedNamingVertexAndFrame) {
   fs::remove_all(dir);
 }
 
+TEST(Hostile, NonFiniteInALargeMeshNamesTheFirstAndChangesNothing) {
+  // Large enough that the positions are checked and copied in several parallel chunks: the
+  // message still names the first bad vertex, for double and float views alike, and a refused
+  // advance leaves the scene as it was.
+  const TriMesh grid = make_grid_mesh(150);
+  ASSERT_GT(grid.num_vertices(), 20000u);
+  Scene scene({grid});
+  Positions moved = grid.vertices;
+  moved.mat().col(2).array() += 0.25;
+  Positions bad = moved;
+  bad(20000, 0) = std::numeric_limits<double>::infinity();
+  bad(17000, 1) = std::numeric_limits<double>::quiet_NaN();
+  const std::string name = "mesh 0 (" + grid.name + ")";
+  EXPECT_EQ(error_of([&] { scene.advance(bad); }), "advance, " + name + ": vertex 17000: coordinate y is not finite (nan)");
+  std::vector<float> floats(bad.data(), bad.data() + 3 * bad.rows());
+  EXPECT_EQ(error_of([&] { scene.advance(PositionsView(floats)); }),
+            "advance, " + name + ": vertex 17000: coordinate y is not finite (nan)");
+  // The refused calls changed nothing: the next advance starts from the initial positions.
+  const StepResult r = scene.advance(moved);
+  Scene fresh({grid});
+  const StepResult want = fresh.advance(moved);
+  EXPECT_EQ(r.contacts, want.contacts);
+  EXPECT_EQ(r.stats.volume_tests, want.stats.volume_tests);
+  EXPECT_EQ(r.stats.front_size, want.stats.front_size);
+  EXPECT_EQ(r.earliest_toi, want.earliest_toi);
+  // float views are copied chunk by chunk too: the same step as from doubles.
+  const std::vector<float> moved_f(moved.data(), moved.data() + 3 * moved.rows());
+  Positions moved_rounded = moved;
+  for (std::size_t i = 0; i < moved_f.size(); ++i) moved_rounded.data()[i] = moved_f[i];
+  Scene a({grid}), b({grid});
+  EXPECT_EQ(a.advance(PositionsView(moved_f)).contacts, b.advance(moved_rounded).contacts);
+}
+
 TEST(Hostile, ExtremeScalesKeepTheContact) {
   const Drop d = drop_through(0.3, -0.45);  // inside a face, clear of every edge
   const std::vector<std::uint32_t> under = faces_under(d.meshes[0], 0.3, -0.45);

@@ -3,7 +3,10 @@
 // serial traversal from the root, for any number of tasks: 1, 4, 64, the default and more
 // tasks than the top ever has (everything in the serial top); with and without recording; and
 // for any budget of work a task has before the rest of its stack is split off into tasks of
-// their own (1, 7, the default, unlimited).
+// their own (1, 7, the default, unlimited); and for any budget of work of the serial top (1,
+// 64, the default, unlimited).
+#include <type_traits>
+
 #include <gtest/gtest.h>
 
 #include <oneapi/tbb/task_arena.h>
@@ -22,6 +25,7 @@ namespace {
 constexpr std::size_t kMinTasks[] = {1, 4, 64, 0 /* phc_tasks() */, std::size_t(1) << 30};
 constexpr std::size_t kUnlimited = static_cast<std::size_t>(-1);
 constexpr std::size_t kWorkBudgets[] = {1, 7, kTaskWork, kUnlimited};
+constexpr std::size_t kTopBudgets[] = {1, 64, kTopWork, kUnlimited};
 
 std::vector<NodePair> all_fronts(const WorkerOutputs& outs) {
   std::vector<NodePair> all;
@@ -40,39 +44,44 @@ void expect_phc_equals_serial(const BvttScene& s, const char* what) {
   if (record) {
     ASSERT_FALSE(want_front.empty()) << what;
   }
+  auto text = [](std::size_t n) { return n == kUnlimited ? std::string("unlimited") : std::to_string(n); };
   for (std::size_t min_tasks : kMinTasks)
-    for (std::size_t visits : kWorkBudgets) {
-      SCOPED_TRACE(std::string(what) + ", min_tasks " + std::to_string(min_tasks) + ", work " +
-                   (visits == kUnlimited ? std::string("unlimited") : std::to_string(visits)) +
-                   (record ? ", record" : ""));
-      WorkerOutputs outs;
-      ContactBuffer contacts;
-      traverse_phc<record>(s.bvtt(), outs, contacts, min_tasks, visits);
-      EXPECT_EQ(test::hits(contacts), want_hits);
-      EXPECT_EQ(all_fronts(outs), want_front);
-      std::uint64_t volume_tests = 0;
-      for (const WorkerOutput& o : outs) {
-        volume_tests += o.stats.volume_tests;
-        EXPECT_TRUE(o.stack.empty()) << "a task left nodes unvisited";
+    for (std::size_t visits : kWorkBudgets)
+      for (std::size_t top : kTopBudgets) {
+        SCOPED_TRACE(std::string(what) + ", min_tasks " + std::to_string(min_tasks) + ", work " + text(visits) +
+                     ", top work " + text(top) + (record ? ", record" : ""));
+        WorkerOutputs outs;
+        ContactBuffer contacts;
+        traverse_phc<record>(s.bvtt(), outs, contacts, min_tasks, visits, top);
+        EXPECT_EQ(test::hits(contacts), want_hits);
+        EXPECT_EQ(all_fronts(outs), want_front);
+        std::uint64_t volume_tests = 0;
+        for (const WorkerOutput& o : outs) {
+          volume_tests += o.stats.volume_tests;
+          EXPECT_TRUE(o.stack.empty()) << "a task left nodes unvisited";
+        }
+        EXPECT_EQ(volume_tests, serial.stats.volume_tests) << "the same node tests";
+        // The serial top stops within one visit of its budget: a node test, or a leaf pair.
+        if (top != kUnlimited) {
+          EXPECT_LE(outs[0].stats.volume_tests, top + std::remove_cvref_t<decltype(s.bvtt())>::kLeafPairWork);
+        }
+        const std::size_t want_tasks = min_tasks ? min_tasks : phc_tasks(s.bvh().size());
+        if (want_tasks == 1) {
+          EXPECT_EQ(outs.size(), 2u) << "one task: the root (with the parts it split off)";
+        }
+        if (want_tasks >= (std::size_t(1) << 30) && top == kUnlimited) {
+          EXPECT_EQ(outs.size(), 1u) << "the top ran out of nodes";
+        }
+        // Otherwise at least min_tasks tasks, unless the top ran out of nodes first.
+        if (want_tasks > 1 && want_tasks < (std::size_t(1) << 30) && top == kUnlimited) {
+          EXPECT_TRUE(outs.size() >= 1 + want_tasks || outs.size() == 1) << outs.size() << " outputs";
+        }
+        // Reused outputs (the engine keeps them from step to step) give the same again.
+        ContactBuffer again;
+        traverse_phc<record>(s.bvtt(), outs, again, min_tasks, visits, top);
+        EXPECT_EQ(test::hits(again), want_hits) << "second run";
+        EXPECT_EQ(all_fronts(outs), want_front) << "second run";
       }
-      EXPECT_EQ(volume_tests, serial.stats.volume_tests) << "the same node tests";
-      const std::size_t want_tasks = min_tasks ? min_tasks : phc_tasks(s.bvh().size());
-      if (want_tasks == 1) {
-        EXPECT_EQ(outs.size(), 2u) << "one task: the root (with the parts it split off)";
-      }
-      if (want_tasks >= (std::size_t(1) << 30)) {
-        EXPECT_EQ(outs.size(), 1u) << "the top ran out of nodes";
-      }
-      // Otherwise at least min_tasks tasks, unless the top ran out of nodes first.
-      if (want_tasks > 1 && want_tasks < (std::size_t(1) << 30)) {
-        EXPECT_TRUE(outs.size() >= 1 + want_tasks || outs.size() == 1) << outs.size() << " outputs";
-      }
-      // Reused outputs (the engine keeps them from step to step) give the same again.
-      ContactBuffer again;
-      traverse_phc<record>(s.bvtt(), outs, again, min_tasks, visits);
-      EXPECT_EQ(test::hits(again), want_hits) << "second run";
-      EXPECT_EQ(all_fronts(outs), want_front) << "second run";
-    }
 }
 
 void expect_every_step(BvttScene& s, const char* what) {

@@ -60,7 +60,7 @@ void expect_run_matches_reference(BvttScene& s, const RefitPlan& plan) {
 }  // namespace
 
 TEST(RefitPlan, OneSubtreeMatchesSerialMerge) {
-  BvttScene s(make_folding_cloth(6, 4), 1);  // 72 triangles, 143 nodes: under the default min_subtree
+  BvttScene s(make_folding_cloth(4, 4), 1);  // 32 triangles, 63 nodes: under the default min_subtree
   const RefitPlan plan(s.bvh(), [](std::uint32_t) { return false; });
   ASSERT_EQ(plan.num_subtrees(), 1u);
   expect_run_matches_reference(s, plan);
