@@ -85,6 +85,8 @@ class Bvtt {
   /// Work of a visit in the units of traverse()'s budget: a node test 1, a leaf pair (its
   /// feature pairs and elementary tests) kLeafPairWork.
   static constexpr std::size_t kLeafPairWork = 16;
+  /// The work of visiting `n`, in those units.
+  std::size_t work_of(const NodePair& n) const { return bvh_.leaf(n.a) && bvh_.leaf(n.b) ? kLeafPairWork : 1; }
 
   /// Depth-first traversal of everything on out.stack (its leaf pairs processed by the time
   /// it returns), or until it has done `budget` units of work (kLeafPairWork): the rest is
@@ -101,7 +103,7 @@ class Bvtt {
       }
       const NodePair n = st.back();
       st.pop_back();
-      work += bvh_.leaf(n.a) && bvh_.leaf(n.b) ? kLeafPairWork : 1;
+      work += work_of(n);
       visit<record>(n, out, st);
     }
     finish(out);

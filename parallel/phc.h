@@ -14,7 +14,6 @@
 
 #include <oneapi/tbb/partitioner.h>
 
-#include <mccd/core/bvh.h>
 #include <mccd/parallel/contact_buffer.h>
 #include <mccd/parallel/tbb_executor.h>
 
@@ -102,16 +101,14 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
     outs.resize(1);
     return;
   }
-  const BvhTopology& bvh = bvtt.bvh();
   std::vector<NodePair> tasks{{0, 0}}, next;
   std::size_t work = 0;
   while (!tasks.empty() && tasks.size() < min_tasks && work < top_work) {
     next.clear();
     std::size_t i = 0;
     for (; i < tasks.size() && work < top_work; ++i) {
-      const NodePair n = tasks[i];
-      work += bvh.leaf(n.a) && bvh.leaf(n.b) ? Bvtt::kLeafPairWork : 1;
-      bvtt.template visit<record>(n, outs[0], next);
+      work += bvtt.work_of(tasks[i]);
+      bvtt.template visit<record>(tasks[i], outs[0], next);
     }
     next.insert(next.end(), tasks.begin() + static_cast<std::ptrdiff_t>(i), tasks.end());
     tasks.swap(next);
