@@ -25,13 +25,17 @@ void validate_mesh(const TriMesh& mesh) {
   validate_positions(mesh.vertices, nv, name);
 }
 
-void validate_positions(const PositionsView& positions, std::size_t num_vertices, const std::string& what) {
+void validate_positions_shape(const PositionsView& positions, std::size_t num_vertices, const std::string& what) {
   if (positions.cols() != 3)
     throw Error(what + ": has " + std::to_string(positions.cols()) + " columns, expected 3 (x, y, z)");
   if (positions.rows() != num_vertices)
     throw Error(what + ": has " + std::to_string(positions.rows()) + " vertices, expected " +
                 std::to_string(num_vertices));
   if (num_vertices > 0 && positions.data() == nullptr) throw Error(what + ": null position buffer");
+}
+
+void validate_positions(const PositionsView& positions, std::size_t num_vertices, const std::string& what) {
+  validate_positions_shape(positions, num_vertices, what);
   for (std::size_t v = 0; v < positions.rows(); ++v)
     for (int c = 0; c < 3; ++c)
       if (!std::isfinite(positions(v, c)))

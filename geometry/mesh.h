@@ -34,6 +34,9 @@ void validate_mesh(const TriMesh& mesh);
 /// the right row count and only finite values. `what` names the array in the message
 /// ("frame 3 (cloth93.ply)"). Throws mccd::Error.
 void validate_positions(const PositionsView& positions, std::size_t num_vertices, const std::string& what);
+/// The same checks less the values' finiteness (what a caller that checks the values in
+/// parallel calls first).
+void validate_positions_shape(const PositionsView& positions, std::size_t num_vertices, const std::string& what);
 
 /// Number of faces of `mesh` whose area is exactly zero in double arithmetic
 /// (|cross product| == 0: repeated positions or collinear corners).

@@ -129,10 +129,9 @@ struct Scene::Impl {
       if (!topo->mesh_options(m).is_static) {
         const PositionsView& v = views[m];
         // The shape first (cheap, and the finiteness pass needs it), then the coordinates.
-        if (v.cols() == 3 && v.rows() == meshes[m].num_vertices() && (v.rows() == 0 || v.data() != nullptr) &&
-            in_arena([&] { return all_finite(v); }))
-          continue;
-        validate_positions(v, meshes[m].num_vertices(), what);  // throws, naming the first fault
+        validate_positions_shape(v, meshes[m].num_vertices(), what);
+        if (!in_arena([&] { return all_finite(v); }))
+          validate_positions(v, meshes[m].num_vertices(), what);  // throws, naming the first fault
         continue;
       }
       // A static mesh: no positions, or its own, unchanged.
