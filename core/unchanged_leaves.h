@@ -14,8 +14,13 @@
 /// Per step (full steps only; a query step neither uses nor changes this):
 ///  1. begin(): the previous step's contacts are in `touched` (set by the leaf pairs and
 ///     single leaves that found one); they become `touched_before`;
-///  2. the update compares each vertex's positions with the previous step's and keeps them,
-///     then recomputes the volumes of the vertices, edges and faces that do not repeat;
+///  2. the update notes, vertex by vertex as it reads them (note()), whether its start and end
+///     differ, and recomputes the volumes of the vertices that do not repeat. When this
+///     step's start is bit for bit the previous step's end (Scene::advance, or a step whose
+///     start equals the last end: `continues`), a vertex repeats the previous step exactly
+///     when it moved in neither step, so no positions are kept or compared beyond the step's
+///     own. A step that does not continue the last skips nothing (its motion is noted for the
+///     next);
 ///  3. the refit marks each leaf whose corners all repeat, and keeps its volume;
 ///  4. leaf pairs and single leaves ask skip(), and mark the leaves of every pair that finds a
 ///     contact (relaxed atomic stores of 1: several blocks may mark one leaf).
@@ -26,7 +31,6 @@
 #include <utility>
 #include <vector>
 
-#include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/positions.h>
 
 namespace mccd::detail {
@@ -41,9 +45,11 @@ class UnchangedLeaves {
   void set_static(std::vector<std::uint8_t> leaves) { static_ = std::move(leaves); }
 
   /// A full step starts: `usable` when the previous step was a full step that processed its
-  /// leaf pairs (not brute force) and completed. Then the previous step's marks become
-  /// touched_before; the marks are cleared either way.
-  void begin(std::size_t num_nodes, std::size_t num_vertices, bool usable) {
+  /// leaf pairs (not brute force) and completed; `continues` when this step's start positions
+  /// are bit for bit the end positions of the previous full step. With both (and the previous
+  /// step's motion noted), it may skip; the previous step's marks then become touched_before.
+  /// The marks are cleared either way.
+  void begin(std::size_t num_nodes, std::size_t num_vertices, bool usable, bool continues) {
     if (touched_size_ != num_nodes) {
       touched_ = std::make_unique<std::atomic<std::uint8_t>[]>(num_nodes);
       touched_size_ = num_nodes;
@@ -52,14 +58,13 @@ class UnchangedLeaves {
       usable = false;
     }
     if (same_.size() != num_vertices) {
-      reserve_backed(prev0_, 3 * num_vertices);  // written in full by the first compare()
-      reserve_backed(prev1_, 3 * num_vertices);
-      prev0_.resize(3 * num_vertices);
-      prev1_.resize(3 * num_vertices);
-      same_.assign(num_vertices, 0);
-      usable = false;
+      // A vertex the update never notes (a static mesh's) never moves: it repeats.
+      moved_.assign(num_vertices, 0);
+      moved_before_.assign(num_vertices, 0);
+      same_.assign(num_vertices, 1);
+      usable = have_prev_ = false;
     }
-    active_ = usable && have_prev_;
+    active_ = usable && continues && have_prev_;
     recording_ = true;
     for (std::size_t i = 0; i < num_nodes; ++i) {
       touched_before_[i] = active_ ? touched_[i].load(std::memory_order_relaxed) : 0;
@@ -72,24 +77,26 @@ class UnchangedLeaves {
     active_ = recording_ = false;
   }
 
-  /// Vertices [begin, end) after the step's positions are known: whether each repeats the
-  /// previous step's start and end bit for bit; then this step's become the previous ones.
-  void compare(const Positions& x0, const Positions& x1, std::size_t begin, std::size_t end) {
-    const double* a = x0.data();
-    const double* b = x1.data();
-    double* p = prev0_.data();  // written before read: the first compare() is not used
-    double* q = prev1_.data();
-    for (std::size_t v = begin; v != end; ++v) {
-      same_[v] = std::memcmp(a + 3 * v, p + 3 * v, 3 * sizeof(double)) == 0 &&
-                 std::memcmp(b + 3 * v, q + 3 * v, 3 * sizeof(double)) == 0;
-      std::memcpy(p + 3 * v, a + 3 * v, 3 * sizeof(double));
-      std::memcpy(q + 3 * v, b + 3 * v, 3 * sizeof(double));
-    }
+  /// Vertex v's start `a` and end `b` (three doubles each) in this step's update, every
+  /// moving vertex once per full step (each from one thread): records whether it moves, and
+  /// returns whether it repeats the previous full step bit for bit (only when active(): its
+  /// volumes from then hold).
+  [[gnu::always_inline]] bool note(std::size_t v, const double* a, const double* b) {
+    const bool moved = std::memcmp(a, b, 3 * sizeof(double)) != 0;
+    moved_[v] = moved;
+    // continues: this start is the previous end, so the previous start equals it exactly when
+    // the vertex did not move then, and this end equals it when it does not move now
+    const bool same = active_ && !moved && !moved_before_[v];
+    same_[v] = same;
+    return same;
   }
-  /// The step completed: its positions are the previous ones for the next step.
-  void end() { have_prev_ = true; }
+  /// The step completed: the motion it noted is the previous step's for the next.
+  void end() {
+    std::swap(moved_, moved_before_);
+    have_prev_ = true;
+  }
 
-  /// Leaf `leaf` after compare() (only when active()): whether all its corners repeat.
+  /// Leaf `leaf` after the update (only when active()): whether all its corners repeat.
   /// `owners`: the LeafOwnership (core/leaf_rule_owners.h).
   template <class Owners>
   bool mark_leaf(std::uint32_t leaf, const Owners& owners) {
@@ -102,7 +109,7 @@ class UnchangedLeaves {
     return same;
   }
 
-  /// Per vertex id after compare(), when active(): whether it repeats the previous step (its
+  /// Per vertex id after the update, when active(): whether it repeats the previous step (its
   /// volumes from then hold).
   const std::uint8_t* same() const { return same_.data(); }
 
@@ -118,9 +125,10 @@ class UnchangedLeaves {
   }
 
  private:
-  bool active_ = false, have_prev_ = false;
+  bool active_ = false;
+  bool have_prev_ = false;  ///< moved_before_ holds the motion of the previous full step
   bool recording_ = false;  ///< between begin() and forget(): a full step marks its leaves
-  LargeVector<double> prev0_, prev1_;  ///< the previous full step's start and end, interleaved
+  std::vector<std::uint8_t> moved_, moved_before_;  ///< per vertex: start and end differ, this / the previous full step
   std::vector<std::uint8_t> same_;   ///< per vertex: repeats the previous step
   std::vector<std::uint8_t> unchanged_, touched_before_;  ///< per BVH node (leaves)
   std::vector<std::uint8_t> static_;  ///< per BVH node: a leaf of a static mesh

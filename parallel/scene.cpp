@@ -153,13 +153,16 @@ struct Scene::Impl {
   }
 
   /// Copies the views into `dst` (global ids), converting float to double, in parallel chunks
-  /// in the scene's arena.
-  void load(const std::vector<PositionsView>& views, Positions& dst) {
+  /// in the scene's arena. With `same_as`: returns whether every copied position is bit for
+  /// bit the one there (each chunk compared as it is copied; a static mesh's never change).
+  bool load(const std::vector<PositionsView>& views, Positions& dst, const Positions* same_as = nullptr) {
+    std::atomic<bool> same{same_as != nullptr};
     in_arena([&] {
       for (std::size_t m = 0; m < views.size(); ++m) {
         if (topo->mesh_options(m).is_static) continue;  // its positions never change
         const PositionsView& v = views[m];
         double* out = dst.data() + 3 * topo->vertex_offset(m);
+        const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(m) : nullptr;
         detail::dynamic_for(v.rows(), kPositionsGrain, [&](std::size_t b, std::size_t e) {
           if (v.is_dense_double()) {
             std::memcpy(out + 3 * b, static_cast<const double*>(v.data()) + 3 * b, 3 * (e - b) * sizeof(double));
@@ -167,17 +170,23 @@ struct Scene::Impl {
             for (std::size_t i = b; i < e; ++i)
               for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
           }
+          if (ref && same.load(std::memory_order_relaxed) &&
+              std::memcmp(out + 3 * b, ref + 3 * b, 3 * (e - b) * sizeof(double)) != 0)
+            same.store(false, std::memory_order_relaxed);
         });
       }
     });
+    return same.load(std::memory_order_relaxed);
   }
 
-  StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full) {
+  /// `continues`: the step starts where the last one ended (Stepper::step).
+  StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full,
+                 bool continues = false) {
     StepResult r;
     try {
       // Isolated: while this thread waits inside the step, it takes only the step's own tasks,
       // never an outer task of the host that might step this scene again.
-      r = in_arena([&] { return dop ? dop->step(method, kind) : aabb->step(method, kind); });
+      r = in_arena([&] { return dop ? dop->step(method, kind, continues) : aabb->step(method, kind, continues); });
     } catch (...) {
       // A failure inside the engine (out of memory): the front may be half built; forget it.
       if (dop) dop->invalidate_front();
@@ -202,9 +211,9 @@ StepResult Scene::step(const std::vector<PositionsView>& start, const std::vecto
   const Method m = Impl::checked(method, impl_->options.method);
   impl_->check(start, "step start");
   impl_->check(end, "step end");
-  impl_->load(start, impl_->start());
+  const bool continues = impl_->load(start, impl_->start(), &impl_->last_end);
   impl_->load(end, impl_->end());
-  StepResult r = impl_->run(m, t0);
+  StepResult r = impl_->run(m, t0, detail::StepKind::Full, continues);
   std::swap(impl_->last_end.xyz(), impl_->end().xyz());  // end() is reloaded by every step
   return r;
 }
@@ -218,7 +227,7 @@ StepResult Scene::advance(const std::vector<PositionsView>& next, std::optional<
   std::swap(impl_->last_end.xyz(), impl_->start().xyz());
   StepResult r;
   try {
-    r = impl_->run(m, t0);
+    r = impl_->run(m, t0, detail::StepKind::Full, true);  // it starts where the last step ended
   } catch (...) {
     std::swap(impl_->last_end.xyz(), impl_->start().xyz());  // the last end stays the last end
     throw;

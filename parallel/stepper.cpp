@@ -98,7 +98,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
 }
 
 template <BoundingVolume BV>
-StepResult Stepper<BV>::step(Method method, StepKind kind) {
+StepResult Stepper<BV>::step(Method method, StepKind kind, bool continues) {
   MCCD_ASSERT(!running_, "a step of this stepper is already running");
   running_ = true;
   struct Done {
@@ -110,7 +110,7 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
   // Leaves that repeat the previous step are skipped only right after a full step that
   // processed its leaf pairs; a query forgets it (its positions are not the scene's).
   if (full_ && scene_.representatives() == Representatives::Leaf)
-    unchanged_.begin(bvh_.size(), scene_.topology().num_vertices(), repeatable_);
+    unchanged_.begin(bvh_.size(), scene_.topology().num_vertices(), repeatable_, continues);
   else
     unchanged_.forget();
   repeatable_ = false;  // until this step completes
@@ -131,7 +131,7 @@ StepResult Stepper<BV>::step(Method method, StepKind kind) {
   }
   if (full_) {
     ++full_steps_;
-    if (full_steps_ > 1) unchanged_.end();  // the first full step records no positions
+    if (scene_.representatives() == Representatives::Leaf) unchanged_.end();
     repeatable_ = method != Method::BruteForce && scene_.representatives() == Representatives::Leaf;
   }
   return std::move(result_);
@@ -141,10 +141,9 @@ template <BoundingVolume BV>
 void Stepper<BV>::update() {
   WorkSpanRecorder recorder;
   const StageClock clock(options_.work_span ? &recorder : nullptr);
-  // From the second full step on, each vertex against the previous step's positions (a single
-  // step, like toi-check's, pays nothing for it).
-  const bool compare = full_ && full_steps_ > 0 && scene_.representatives() == Representatives::Leaf;
-  update_stage(scene_, x0_, x1_, options_.min_distance, compare, unchanged_, volumes_, result_.stats);
+  // Full steps note each vertex's motion as the update reads it (UnchangedLeaves::note).
+  const bool track = full_ && scene_.representatives() == Representatives::Leaf;
+  update_stage(scene_, x0_, x1_, options_.min_distance, track ? &unchanged_ : nullptr, volumes_, result_.stats);
   result_.stats.t_update = clock.seconds();
   result_.stats.ws_update = clock.work_span(result_.stats.t_update);
 }

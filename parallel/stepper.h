@@ -37,8 +37,10 @@ class Stepper {
   const Positions& end() const { return x1_; }
 
   /// Runs one step from start() to end() with `method` in the calling thread's arena. A query
-  /// (`kind` other than Full) reads the front but never changes it.
-  StepResult step(Method method, StepKind kind = StepKind::Full);
+  /// (`kind` other than Full) reads the front but never changes it. `continues`: start() is
+  /// bit for bit the end of the last full step (then what repeats that step may be skipped:
+  /// UnchangedLeaves).
+  StepResult step(Method method, StepKind kind = StepKind::Full, bool continues = false);
 
   std::size_t bvh_depth() const { return bvh_.depth(); }
   std::size_t bvh_size() const { return bvh_.size(); }

@@ -30,38 +30,43 @@ using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
 inline std::size_t vertex_grain(std::size_t vertices) { return std::clamp<std::size_t>(vertices / 64, 256, 2048); }
 
 /// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
-/// computed once; edges' and faces' are merged from their vertices' when needed). `kept`: see
-/// SweptVolumes::update_vertices. `lanes` (leaf rule; nullptr: none), begun on the step's
-/// grid: every vertex's coarse volume too, in the same pass where every mesh moves, else in a
-/// second pass over all of them.
+/// computed once; edges' and faces' are merged from their vertices' when needed). `track`
+/// (nullptr: none): every vertex of the ranges is noted there as it is read
+/// (UnchangedLeaves::note), and those that repeat the previous step keep their volumes.
+/// `lanes` (leaf rule; nullptr: none), begun on the step's grid: every vertex's coarse volume
+/// too, in the same pass where every mesh moves, else in a second pass over all of them.
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const IndexRanges& vertices,
-                          const std::uint8_t* kept = nullptr, LeafLanes<BV>* lanes = nullptr) {
+                          UnchangedLeaves* track = nullptr, LeafLanes<BV>* lanes = nullptr) {
   const std::size_t grain = vertex_grain(topo.num_vertices());
+  const double* a = x0.data();
+  const double* b = x1.data();
+  auto keep = [track, a, b](std::size_t v) { return track && track->note(v, a + 3 * v, b + 3 * v); };
   if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
     // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots), each slot's
     // coarse volume from its quarters while they are in cache.
-    dynamic_for(topo.num_vertices(), grain, [&](std::size_t b, std::size_t e) {
+    dynamic_for(topo.num_vertices(), grain, [&](std::size_t begin, std::size_t end) {
       if (lanes)
-        swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept,
-                                  [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
+        swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
+                                          [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
       else
-        swept.update_vertex_slots(x0.data(), x1.data(), min_distance, b, e, kept);
+        swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
+                                          [](std::size_t, const QuarterVolume<BV>&) {});
     });
     return;
   }
   // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
   for (const auto& range : vertices) {
     const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, grain, [&](std::size_t b, std::size_t e) {
-      swept.update_vertices(x0.data(), x1.data(), min_distance, b0 + b, b0 + e, kept);
+    static_for(e0 - b0, grain, [&](std::size_t begin, std::size_t end) {
+      swept.update_vertices_keeping(a, b, min_distance, b0 + begin, b0 + end, keep);
     });
   }
   // A static mesh's vertices need their coarse volumes on this step's grid too.
   if (lanes)
     dynamic_for(topo.num_vertices(), grain,
-                [&](std::size_t b, std::size_t e) { lanes->quantize_vertices(b, e, swept); });
+                [&](std::size_t begin, std::size_t end) { lanes->quantize_vertices(begin, end, swept); });
 }
 
 /// The box of x0 and x1 together: each chunk of vertices' own box in parallel, then merged in
@@ -94,17 +99,14 @@ struct UpdateState {
   std::vector<Bounds3> chunk_bounds;  ///< step_bounds' scratch
 };
 
-/// Stage 1: the swept volumes of x0 -> x1 for the moving meshes. `compare`: from the second
-/// full step on (leaf rule), each vertex is compared with the previous step's positions first,
-/// and the volumes of those that repeat are kept (UnchangedLeaves::active()).
+/// Stage 1: the swept volumes of x0 -> x1 for the moving meshes. `track` (full steps under
+/// the leaf rule; nullptr: none): each vertex's motion is noted as the update reads it, and the
+/// volumes of those that repeat the previous step are kept (UnchangedLeaves::active()).
 template <BoundingVolume BV>
 void update_stage(const SceneTopology& scene, const Positions& x0, const Positions& x1, double min_distance,
-                  bool compare, UnchangedLeaves& unchanged, UpdateState<BV>& state, StepStats& stats) {
+                  UnchangedLeaves* track, UpdateState<BV>& state, StepStats& stats) {
   const MeshTopology& topo = scene.topology();
   MCCD_ASSERT(x0.rows() == topo.num_vertices() && x1.rows() == topo.num_vertices(), "positions not sized to the scene");
-  if (compare)
-    dynamic_for(topo.num_vertices(), 2 * vertex_grain(topo.num_vertices()),
-                [&](std::size_t b, std::size_t e) { unchanged.compare(x0, x1, b, e); });
   const SceneTopology::Ranges& moving = scene.moving();
   // Leaf rule: every vertex's coarse volume on a grid that holds the step (the leaves' lanes
   // are filled from them when a leaf pair or the self stage first needs them). The grid is
@@ -115,8 +117,7 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
     if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
     lanes = &state.lanes;
   }
-  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices,
-                       unchanged.active() ? unchanged.same() : nullptr, lanes);
+  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices, track, lanes);
   for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
 }
 
