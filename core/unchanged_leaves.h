@@ -14,8 +14,8 @@
 /// Per step (full steps only; a query step neither uses nor changes this):
 ///  1. begin(): the previous step's contacts are in `touched` (set by the leaf pairs and
 ///     single leaves that found one); they become `touched_before`;
-///  2. the update notes, vertex by vertex as it reads them (note()), whether its start and end
-///     differ, and recomputes the volumes of the vertices that do not repeat. When this
+///  2. the update notes, vertex by vertex as it reads them (note(), by storage slot), whether
+///     its start and end differ, and recomputes the volumes of the vertices that do not repeat. When this
 ///     step's start is bit for bit the previous step's end (Scene::advance, or a step whose
 ///     start equals the last end: `continues`), a vertex repeats the previous step exactly
 ///     when it moved in neither step, so no positions are kept or compared beyond the step's
@@ -57,11 +57,10 @@ class UnchangedLeaves {
       unchanged_ = static_.size() == num_nodes ? static_ : std::vector<std::uint8_t>(num_nodes, 0);
       usable = false;
     }
-    if (same_.size() != num_vertices) {
+    if (moved_.size() != num_vertices) {
       // A vertex the update never notes (a static mesh's) never moves: it repeats.
       moved_.assign(num_vertices, 0);
       moved_before_.assign(num_vertices, 0);
-      same_.assign(num_vertices, 1);
       usable = have_prev_ = false;
     }
     active_ = usable && continues && have_prev_;
@@ -77,18 +76,17 @@ class UnchangedLeaves {
     active_ = recording_ = false;
   }
 
-  /// Vertex v's start `a` and end `b` (three doubles each) in this step's update, every
-  /// moving vertex once per full step (each from one thread): records whether it moves, and
-  /// returns whether it repeats the previous full step bit for bit (only when active(): its
-  /// volumes from then hold).
-  [[gnu::always_inline]] bool note(std::size_t v, const double* a, const double* b) {
+  /// The vertex in storage slot `slot` (the swept volumes' layout: each update chunk writes
+  /// its own run of slots), its start `a` and end `b` (three doubles each) in this step's
+  /// update: every moving vertex once per full step. Records whether it moves, and returns
+  /// whether it repeats the previous full step bit for bit (only when active(): its volumes
+  /// from then hold).
+  [[gnu::always_inline]] bool note(std::size_t slot, const double* a, const double* b) {
     const bool moved = std::memcmp(a, b, 3 * sizeof(double)) != 0;
-    moved_[v] = moved;
+    moved_[slot] = moved;
     // continues: this start is the previous end, so the previous start equals it exactly when
     // the vertex did not move then, and this end equals it when it does not move now
-    const bool same = active_ && !moved && !moved_before_[v];
-    same_[v] = same;
-    return same;
+    return active_ && !moved && !moved_before_[slot];
   }
   /// The step completed: the motion it noted is the previous step's for the next.
   void end() {
@@ -97,21 +95,17 @@ class UnchangedLeaves {
   }
 
   /// Leaf `leaf` after the update (only when active()): whether all its corners repeat.
-  /// `owners`: the LeafOwnership (core/leaf_rule_owners.h).
+  /// `owners`: the LeafOwnership (core/leaf_rule_owners.h), whose slots note() was given.
   template <class Owners>
   bool mark_leaf(std::uint32_t leaf, const Owners& owners) {
+    auto repeats = [&](std::uint32_t slot) { return (moved_[slot] | moved_before_[slot]) == 0; };
     bool same = true;
-    for (std::uint32_t s = owners.vertex_begin(leaf); s != owners.vertex_begin(leaf + 1); ++s)
-      same &= same_[owners.vertex(s)] != 0;
+    for (std::uint32_t s = owners.vertex_begin(leaf); s != owners.vertex_begin(leaf + 1); ++s) same &= repeats(s);
     for (std::uint32_t i = owners.foreign_begin(leaf); i != owners.foreign_begin(leaf + 1); ++i)
-      same &= same_[owners.vertex(owners.foreign_corner(i))] != 0;
+      same &= repeats(owners.foreign_corner(i));
     unchanged_[leaf] = same;
     return same;
   }
-
-  /// Per vertex id after the update, when active(): whether it repeats the previous step (its
-  /// volumes from then hold).
-  const std::uint8_t* same() const { return same_.data(); }
 
   /// Whether leaf pair (a, b) (a == b: one leaf's own pairs) finds nothing, as before.
   bool skip(std::uint32_t a, std::uint32_t b) const {
@@ -128,8 +122,7 @@ class UnchangedLeaves {
   bool active_ = false;
   bool have_prev_ = false;  ///< moved_before_ holds the motion of the previous full step
   bool recording_ = false;  ///< between begin() and forget(): a full step marks its leaves
-  std::vector<std::uint8_t> moved_, moved_before_;  ///< per vertex: start and end differ, this / the previous full step
-  std::vector<std::uint8_t> same_;   ///< per vertex: repeats the previous step
+  std::vector<std::uint8_t> moved_, moved_before_;  ///< per vertex slot: start and end differ, this / the previous full step
   std::vector<std::uint8_t> unchanged_, touched_before_;  ///< per BVH node (leaves)
   std::vector<std::uint8_t> static_;  ///< per BVH node: a leaf of a static mesh
   std::unique_ptr<std::atomic<std::uint8_t>[]> touched_;  ///< per BVH node: this step's marks

@@ -98,19 +98,13 @@ class SweptVolumes {
   }
 
   /// Vertices [begin, end): their swept segments between the interleaved positions x0, x1,
-  /// inflated by `min_distance`. Each range writes only its own vertices. `keep(v)`, asked
-  /// once for every vertex of the range: true for a vertex whose volumes already hold these
-  /// positions' (the previous step's, same positions), left as they are.
-  template <class Keep>
-  void update_vertices_keeping(const double* x0, const double* x1, double min_distance, std::size_t begin,
-                               std::size_t end, const Keep& keep) {
-    for (std::size_t v = begin; v != end; ++v)
-      if (!keep(v)) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
-  }
-  /// The same with `kept` (per vertex id; nullptr: none) as keep().
+  /// inflated by `min_distance`. Each range writes only its own vertices. `kept` (per vertex
+  /// id; nullptr: none): vertices whose volumes already hold these positions' (the previous
+  /// step's, same positions), left as they are.
   void update_vertices(const double* x0, const double* x1, double min_distance, std::size_t begin, std::size_t end,
                        const std::uint8_t* kept = nullptr) {
-    update_vertices_keeping(x0, x1, min_distance, begin, end, [kept](std::size_t v) { return kept && kept[v]; });
+    for (std::size_t v = begin; v != end; ++v)
+      if (!kept || !kept[v]) vertex_volumes(x0, x1, min_distance, v, layout_.vertex_slot[v]);
   }
 
   /// The same by slot ranges [begin, end) of the storage, for a step where every vertex
@@ -118,7 +112,8 @@ class SweptVolumes {
   /// the layout). The same values as the updates by id. `visit(slot, quarters)` is then called
   /// for every slot of the range, updated or kept, with its volumes (a second consumer of
   /// the step's volumes reads them while they are in cache, not in a second pass).
-  /// `keep(v)` as in update_vertices_keeping(), asked once for every vertex of the range.
+  /// `keep(v, slot)`, asked once for every slot of the range (v: its vertex): true where the
+  /// volumes already hold these positions', left as they are (like update_vertices' `kept`).
   template <class Keep, class Visit>
   void update_vertex_slots_keeping(const double* x0, const double* x1, double min_distance, std::size_t begin,
                                    std::size_t end, const Keep& keep, const Visit& visit) {
@@ -130,7 +125,7 @@ class SweptVolumes {
         __builtin_prefetch(x1 + a);
       }
       const std::uint32_t v = vertex_of_slot_[s];
-      if (!keep(v)) vertex_volumes(x0, x1, min_distance, v, s);
+      if (!keep(v, s)) vertex_volumes(x0, x1, min_distance, v, s);
       visit(s, vertex_quarters_[s]);
     }
   }
@@ -139,7 +134,7 @@ class SweptVolumes {
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
                            std::size_t end, const std::uint8_t* kept, const Visit& visit) {
     update_vertex_slots_keeping(
-        x0, x1, min_distance, begin, end, [kept](std::size_t v) { return kept && kept[v]; }, visit);
+        x0, x1, min_distance, begin, end, [kept](std::uint32_t v, std::size_t) { return kept && kept[v]; }, visit);
   }
   void update_vertex_slots(const double* x0, const double* x1, double min_distance, std::size_t begin,
                            std::size_t end, const std::uint8_t* kept = nullptr) {

@@ -88,8 +88,10 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
       fixed[n] = bvh_.leaf(n) && m != BvhTopology::kMixed && scene.mesh_options(m).is_static;
     }
     unchanged_.set_static(std::move(fixed));
-    const IndexRanges all_v{{0, topo.num_vertices()}};
-    update_swept_volumes(volumes_.swept, topo, x0_, x1_, options_.min_distance, all_v);
+    update_swept_volumes(volumes_.swept, topo, x0_, x1_, options_.min_distance);
+    // from now on every step keeps them
+    volumes_.fixed.assign(topo.num_vertices(), 1);
+    for (const auto& [b, e] : scene.moving().vertices) std::fill(volumes_.fixed.begin() + b, volumes_.fixed.begin() + e, 0);
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(owners_, volumes_.swept, n); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },

@@ -23,50 +23,34 @@
 
 namespace mccd::detail {
 
-using IndexRanges = std::vector<std::pair<std::size_t, std::size_t>>;
-
 /// Vertices per chunk of the update's loops: a 64th of the scene's, from 256 to 2048 (a small
 /// scene still gives 16 threads several chunks each; a large one keeps its chunks long).
 inline std::size_t vertex_grain(std::size_t vertices) { return std::clamp<std::size_t>(vertices / 64, 256, 2048); }
 
-/// The volumes of the given vertex ranges (the moving meshes'; a static mesh's volumes are
-/// computed once; edges' and faces' are merged from their vertices' when needed). `track`
-/// (nullptr: none): every vertex of the ranges is noted there as it is read
+/// The volumes of every vertex (edges' and faces' are merged from their vertices' when
+/// needed), in storage order (SweptVolumes::update_vertex_slots_keeping). `fixed` (per vertex
+/// id; nullptr: none): the static meshes' vertices, whose volumes were computed once and are
+/// kept. `track` (nullptr: none): every other vertex is noted there as it is read
 /// (UnchangedLeaves::note), and those that repeat the previous step keep their volumes.
-/// `lanes` (leaf rule; nullptr: none), begun on the step's grid: every vertex's coarse volume
-/// too, in the same pass where every mesh moves, else in a second pass over all of them.
+/// `lanes` (leaf rule; nullptr: none), begun on the step's grid: each slot's coarse volume
+/// from its quarters while they are in cache.
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
-                          const Positions& x1, double min_distance, const IndexRanges& vertices,
+                          const Positions& x1, double min_distance, const std::uint8_t* fixed = nullptr,
                           UnchangedLeaves* track = nullptr, LeafLanes<BV>* lanes = nullptr) {
-  const std::size_t grain = vertex_grain(topo.num_vertices());
   const double* a = x0.data();
   const double* b = x1.data();
-  auto keep = [track, a, b](std::size_t v) { return track && track->note(v, a + 3 * v, b + 3 * v); };
-  if (vertices.size() == 1 && vertices[0].first == 0 && vertices[0].second == topo.num_vertices()) {
-    // Every mesh moves: in storage order (SweptVolumes::update_vertex_slots), each slot's
-    // coarse volume from its quarters while they are in cache.
-    dynamic_for(topo.num_vertices(), grain, [&](std::size_t begin, std::size_t end) {
-      if (lanes)
-        swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
-                                          [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
-      else
-        swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
-                                          [](std::size_t, const QuarterVolume<BV>&) {});
-    });
-    return;
-  }
-  // Plain copies of the range ends: clang before 16 cannot capture structured bindings.
-  for (const auto& range : vertices) {
-    const std::size_t b0 = range.first, e0 = range.second;
-    static_for(e0 - b0, grain, [&](std::size_t begin, std::size_t end) {
-      swept.update_vertices_keeping(a, b, min_distance, b0 + begin, b0 + end, keep);
-    });
-  }
-  // A static mesh's vertices need their coarse volumes on this step's grid too.
-  if (lanes)
-    dynamic_for(topo.num_vertices(), grain,
-                [&](std::size_t begin, std::size_t end) { lanes->quantize_vertices(begin, end, swept); });
+  auto keep = [fixed, track, a, b](std::uint32_t v, std::size_t slot) {
+    return (fixed && fixed[v]) || (track && track->note(slot, a + 3 * std::size_t(v), b + 3 * std::size_t(v)));
+  };
+  dynamic_for(topo.num_vertices(), vertex_grain(topo.num_vertices()), [&](std::size_t begin, std::size_t end) {
+    if (lanes)
+      swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
+                                        [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
+    else
+      swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
+                                        [](std::size_t, const QuarterVolume<BV>&) {});
+  });
 }
 
 /// The box of x0 and x1 together: each chunk of vertices' own box in parallel, then merged in
@@ -97,6 +81,7 @@ struct UpdateState {
   LeafLanes<BV> lanes;     ///< leaf rule: the leaves' coarse volumes, filled as used
   GridKeeper<BV::kSlabs> grid;  ///< their grid, fitted to each step
   std::vector<Bounds3> chunk_bounds;  ///< step_bounds' scratch
+  std::vector<std::uint8_t> fixed;   ///< per vertex id: of a static mesh (empty: none is)
 };
 
 /// Stage 1: the swept volumes of x0 -> x1 for the moving meshes. `track` (full steps under
@@ -117,7 +102,8 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
     if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
     lanes = &state.lanes;
   }
-  update_swept_volumes(state.swept, topo, x0, x1, min_distance, moving.vertices, track, lanes);
+  update_swept_volumes(state.swept, topo, x0, x1, min_distance, state.fixed.empty() ? nullptr : state.fixed.data(),
+                       track, lanes);
   for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
 }
 
