@@ -79,7 +79,10 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
       }
       auto s = std::make_shared<Stepped>();
       s->step.index = ++steps;
-      s->step.result = scene.step(views(prev), views(end), options.method);
+      // After the first step each starts where the one before ended, the scene's last end:
+      // advance() reads and checks only the new end (the same step as step(prev, end)).
+      s->step.result = s->step.index == 1 ? scene.step(views(prev), views(end), options.method)
+                                          : scene.advance(views(end), options.method);
       s->last = k == k_max;
       spare = std::move(prev);
       prev = std::move(end);

@@ -36,7 +36,9 @@ struct PipelineOptions {
 
 /// Steps `scene` from `first` through every frame of `source`, handing each step's result to
 /// `sink`. Returns the number of steps. The results are those of calling scene.step() frame
-/// after frame. Runs in the calling thread's arena.
+/// after frame (from the second step on it calls scene.advance(), the same step from the
+/// last end: a frame it refuses is named as advance() names it). Runs in the calling thread's
+/// arena.
 std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const FrameSource& source,
                                const StepSink& sink, const PipelineOptions& options = {});
 
