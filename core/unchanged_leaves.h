@@ -15,12 +15,12 @@
 ///  1. begin(): the previous step's contacts are in `touched` (set by the leaf pairs and
 ///     single leaves that found one); they become `touched_before`;
 ///  2. the update notes, vertex by vertex as it reads them (note(), by storage slot), whether
-///     its start and end differ, and recomputes the volumes of the vertices that do not repeat. When this
-///     step's start is bit for bit the previous step's end (Scene::advance, or a step whose
-///     start equals the last end: `continues`), a vertex repeats the previous step exactly
-///     when it moved in neither step, so no positions are kept or compared beyond the step's
-///     own. A step that does not continue the last skips nothing (its motion is noted for the
-///     next);
+///     its start and end differ, and recomputes the volumes of the vertices that do not
+///     repeat. When this step's start is bit for bit the previous step's end (Scene::advance,
+///     or a step whose start equals the last end: `continues`), a vertex repeats the previous
+///     step exactly when it moved in neither step, so no positions are kept or compared beyond
+///     the step's own. A step that does not continue the last skips nothing (its motion is
+///     noted for the next);
 ///  3. the refit marks each leaf whose corners all repeat, and keeps its volume;
 ///  4. leaf pairs and single leaves ask skip(), and mark the leaves of every pair that finds a
 ///     contact (relaxed atomic stores of 1: several blocks may mark one leaf).
@@ -122,7 +122,8 @@ class UnchangedLeaves {
   bool active_ = false;
   bool have_prev_ = false;  ///< moved_before_ holds the motion of the previous full step
   bool recording_ = false;  ///< between begin() and forget(): a full step marks its leaves
-  std::vector<std::uint8_t> moved_, moved_before_;  ///< per vertex slot: start and end differ, this / the previous full step
+  /// Per vertex slot: start and end differ, in this full step / in the previous one.
+  std::vector<std::uint8_t> moved_, moved_before_;
   std::vector<std::uint8_t> unchanged_, touched_before_;  ///< per BVH node (leaves)
   std::vector<std::uint8_t> static_;  ///< per BVH node: a leaf of a static mesh
   std::unique_ptr<std::atomic<std::uint8_t>[]> touched_;  ///< per BVH node: this step's marks

@@ -91,7 +91,8 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
     update_swept_volumes(volumes_.swept, topo, x0_, x1_, options_.min_distance);
     // from now on every step keeps them
     volumes_.fixed.assign(topo.num_vertices(), 1);
-    for (const auto& [b, e] : scene.moving().vertices) std::fill(volumes_.fixed.begin() + b, volumes_.fixed.begin() + e, 0);
+    for (const auto& [b, e] : scene.moving().vertices)
+      std::fill(volumes_.fixed.begin() + std::ptrdiff_t(b), volumes_.fixed.begin() + std::ptrdiff_t(e), 0);
     refit_plan_.run_static(bvh_, nodes_, [&](std::uint32_t n) { return leaf_volume(owners_, volumes_.swept, n); });
   }
   graph_ = std::make_unique<StepGraph>(StepGraph::Stages{[this] { update(); }, [this] { refit(); },
