@@ -55,10 +55,12 @@ class BvttFront {
   /// block's part of the next front, out.stats its S and B counts. The block's sprouts do at
   /// most `max_work` units of work together (Bvtt::traverse): what is left of a sprout past
   /// that goes to out.left, for the caller to traverse (recording the stops: the rest of the
-  /// next front, all of it sprouted).
+  /// next front, all of it sprouted). `touch_ahead`: the data of the leaf pair a few nodes
+  /// ahead is read before it is needed (Leaf::touch), so that its cache misses overlap the
+  /// work in between.
   template <class Bvtt>
   static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                    std::size_t max_work = static_cast<std::size_t>(-1));
+                    std::size_t max_work = static_cast<std::size_t>(-1), bool touch_ahead = true);
   /// The same tests for a query: the front is read, not changed (nothing is recorded;
   /// overlapping inner nodes are traversed below, up to `max_work` as in track()). Stops
   /// when the query stops.
@@ -86,7 +88,7 @@ void sprout_within(const Bvtt& bvtt, WorkerOutput& out, std::size_t& budget) {
 
 template <class Bvtt>
 void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                      std::size_t max_work) {
+                      std::size_t max_work, bool touch_ahead) {
   const auto& bvh = bvtt.bvh();
   std::size_t budget = max_work;
   std::uint32_t touched = 0;
@@ -94,7 +96,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
     const NodePair n = *it;
     MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
     // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
-    if (kAhead && it + kAhead < end && bvh.leaf(it[kAhead].a) && bvh.leaf(it[kAhead].b))
+    if (touch_ahead && it + kAhead < end && bvh.leaf(it[kAhead].a) && bvh.leaf(it[kAhead].b))
       touched += bvtt.leaf().touch(it[kAhead].a, it[kAhead].b);
     if (it + 2 * kAhead < end) bvtt.prefetch(it[2 * kAhead]);  // the node volumes further ahead
     if (bvtt.culled(n, out)) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <mccd/core/front.h>
 #include <mccd/parallel/contact_buffer.h>
@@ -41,6 +42,9 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   if (blocks.size() < n) blocks.resize(n);
   const bool serial = n <= kSerialBlocks;
   const std::size_t budget = serial ? static_cast<std::size_t>(-1) : task_work;
+  // Reading the next leaf pairs' data ahead pays where threads share the memory system; on one
+  // thread it cost the sub-steps of cloth-ball 5% of the front stage (perf/results/history.md).
+  const bool touch_ahead = tbb::this_task_arena::max_concurrency() > 1;
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
     o.clear();
@@ -48,7 +52,7 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
     if (readonly)
       BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else
-      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
+      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget, touch_ahead);
     if (!o.left.empty()) {
       const std::size_t before = o.front.size();
       if (readonly)
