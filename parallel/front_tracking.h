@@ -42,8 +42,8 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   if (blocks.size() < n) blocks.resize(n);
   const bool serial = n <= kSerialBlocks;
   const std::size_t budget = serial ? static_cast<std::size_t>(-1) : task_work;
-  // Reading the next leaf pairs' data ahead pays where threads share the memory system; on one
-  // thread it cost the sub-steps of cloth-ball 5% of the front stage (perf/results/history.md).
+  // The next leaf pairs' data is read ahead only where the arena has several threads: on one
+  // thread that was measured slower (perf/results/history.md, 2026-11-27).
   const bool touch_ahead = tbb::this_task_arena::max_concurrency() > 1;
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
