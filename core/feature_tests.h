@@ -133,21 +133,35 @@ class FeatureTests {
   /// quarters, is the filter over the volumes' quarters.
   static constexpr std::uint8_t kVolumesPending = 0x10;
 
-  /// Queues vertex v (quarters `vq`) against face f (corners t, quarters `fq`) when their
-  /// quarter volumes overlap; found at leaves (leaf_a, leaf_b).
-  void queue_vf(std::uint32_t v, const Quarters& vq, const Triangle& t, std::uint32_t f, const Quarters& fq,
-                std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
-    if (const unsigned quarters = vq.overlap_mask(fq))
-      out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)});
-  }
   /// Queues edges a and b (sharing no vertex, ends ea and eb) whose quarter volumes overlap in
   /// `quarters` (non-zero).
   void queue_ee(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
                 std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
-    if (a < b)
-      out.queued.push_back({{ea[0], ea[1], eb[0], eb[1]}, a, b, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(quarters)});
-    else
-      out.queued.push_back({{eb[0], eb[1], ea[0], ea[1]}, b, a, leaf_a, leaf_b, 1, static_cast<std::uint8_t>(quarters)});
+    out.queued.push_back(ee_entry(a, ea, b, eb, quarters, leaf_a, leaf_b));
+  }
+  /// The queue entries of a vertex-face pair and of an edge-edge pair whose quarter volumes
+  /// overlap in `quarters`, built without a branch: loops that write every pair and keep
+  /// only those whose quarters are not empty use them (PairQueue::room()).
+  static QueuedPair vf_entry(std::uint32_t v, const Triangle& t, std::uint32_t f, unsigned quarters,
+                             std::uint32_t leaf_a, std::uint32_t leaf_b) {
+    return {{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)};
+  }
+  /// The lower edge id first.
+  static QueuedPair ee_entry(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
+                             std::uint32_t leaf_a, std::uint32_t leaf_b) {
+    const bool swap = b < a;
+    QueuedPair p;
+    p.ids[0] = swap ? eb[0] : ea[0];
+    p.ids[1] = swap ? eb[1] : ea[1];
+    p.ids[2] = swap ? ea[0] : eb[0];
+    p.ids[3] = swap ? ea[1] : eb[1];
+    p.a = swap ? b : a;
+    p.b = swap ? a : b;
+    p.leaf_a = leaf_a;
+    p.leaf_b = leaf_b;
+    p.kind = 1;
+    p.quarters = static_cast<std::uint8_t>(quarters);
+    return p;
   }
 
   /// Queues vertex v against face f (corners t) with their quarter volumes untested
@@ -169,7 +183,7 @@ class FeatureTests {
   /// by one. The contacts, their order and every count are those of the narrow phase alone.
   template <class Found>
   void run_queued(WorkerOutput& out, const Found& found) const {
-    std::vector<QueuedPair>& q = out.queued;
+    PairQueue& q = out.queued;
     const bool prefilter = prefilters();
     const bool batch = prefilter && query_.kind() == StepKind::Full;
     constexpr std::size_t kWindow = 2 * kQueue;

@@ -100,6 +100,12 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
         if ((c < vertex_begin_[i] || c >= vertex_begin_[i + 1]) && std::find(out, out + n, c) == out + n) out[n++] = c;
     return n;
   };
+  end_filters_.assign(bvh.size(), EndFilter{});
+  node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i != e; ++i)
+      for (std::uint32_t s = edge_begin_[i]; s != edge_begin_[i + 1]; ++s)
+        for (std::uint32_t v : edge_ends_[s]) end_filters_[i].bits[end_hash(v) >> 6] |= std::uint64_t(1) << (end_hash(v) & 63);
+  });
   foreign_begin_.assign(bvh.size() + 1, 0);
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     std::uint32_t buf[3 * BvhTopology::kMaxLeaf];

@@ -60,6 +60,17 @@ class LeafOwnership {
   std::uint64_t apart_edges(std::uint32_t slot) const { return apart_edges_[slot]; }
   std::uint32_t apart_faces(std::uint32_t slot) const { return apart_faces_[slot]; }
 
+  /// The ends of leaf `node`'s edges as a filter (a bit per vertex id, hashed to 256): an edge
+  /// with neither end in it shares no end with any of the leaf's edges (may_share_end()).
+  struct EndFilter {
+    std::uint64_t bits[4];
+  };
+  const EndFilter& end_filter(std::uint32_t node) const { return end_filters_[node]; }
+  static bool may_share_end(const EndFilter& f, const Edge& e) {
+    const unsigned h0 = end_hash(e[0]), h1 = end_hash(e[1]);
+    return ((f.bits[h0 >> 6] >> (h0 & 63)) | (f.bits[h1 >> 6] >> (h1 & 63))) & 1u;
+  }
+
   /// Storage in leaf order: vertices and edges by owner (isolated vertices last), faces in the
   /// BVH's triangle order.
   const VolumeLayout& layout() const { return layout_; }
@@ -73,6 +84,8 @@ class LeafOwnership {
   LargeVector<Triangle> face_corners_, face_corner_slots_;  ///< per face slot
   LargeVector<std::uint64_t> apart_edges_;                  ///< per edge slot
   LargeVector<std::uint32_t> apart_faces_;                  ///< per vertex slot
+  std::vector<EndFilter> end_filters_;                       ///< per node (empty at inner nodes)
+  static unsigned end_hash(std::uint32_t v) { return (v * 0x9E3779B1u) >> 24; }
   VolumeLayout layout_;
 };
 

@@ -13,7 +13,7 @@
 /// what the float ones do not, so they only skip pairs. Each pair they do not separate (a
 /// feature-pair test in the statistics) is tested on the features' float quarter volumes, and
 /// the quarters in which those overlap go with the pair to the narrow phase, queued
-/// (FeatureTests::queue_vf, queue_ee; run by finish()). That is the same for every way of
+/// (FeatureTests::vf_entry, ee_entry; run by finish()). That is the same for every way of
 /// reaching the pair (brute force, the canonical rule): a pair's own quarter volumes lie inside
 /// those of its leaves, so testing them first changes nothing.
 ///
@@ -135,6 +135,7 @@ class OwnedPairs {
     const std::uint32_t fa = owners_.edge_begin(a), fb = owners_.edge_begin(b);
     Quarters qb[kMaxOwned];
     std::uint64_t merged = 0;
+    const LeafOwnership::EndFilter& ends_b = owners_.end_filter(b);  // most edges share no end with b's
     std::uint64_t tested = 0;
     for (std::uint64_t left = m.alive_ea; left; left &= left - 1) {
       const std::uint32_t sa = fa + static_cast<unsigned>(std::countr_zero(left));
@@ -150,13 +151,18 @@ class OwnedPairs {
         }
         continue;
       }
-      for (std::uint64_t r = meet; r; r &= r - 1) {
-        const unsigned j = static_cast<unsigned>(std::countr_zero(r));
-        if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
-      }
+      if (LeafOwnership::may_share_end(ends_b, x))
+        for (std::uint64_t r = meet; r; r &= r - 1) {
+          const unsigned j = static_cast<unsigned>(std::countr_zero(r));
+          if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
+        }
       if (!meet) continue;
       Quarters qx;
       swept.edge_quarters_into(sa, qx);
+      const std::uint32_t ea = owners_.edge(sa);
+      // every pair written at the queue's end, kept where the quarters meet: no branch on that
+      // (room for a mask's 64 bits: a population count is a library call in a portable build)
+      QueuedPair* end = out.queued.room(64);
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         const std::uint32_t sb = fb + j;
@@ -165,9 +171,11 @@ class OwnedPairs {
           merged |= std::uint64_t(1) << j;
         }
         ++tested;
-        if (const unsigned mq = qx.overlap_mask(qb[j]))
-          tests_.queue_ee(owners_.edge(sa), x, owners_.edge(sb), owners_.edge_ends(sb), mq, a, b, out);
+        const unsigned mq = qx.overlap_mask(qb[j]);
+        *end = Tests::ee_entry(ea, x, owners_.edge(sb), owners_.edge_ends(sb), mq, a, b);
+        end += mq != 0;
       }
+      out.queued.set_end(end);
     }
     out.stats.feature_box_tests += tested;
   }
@@ -212,14 +220,17 @@ class OwnedPairs {
         continue;
       }
       const Quarters& qx = quarters(i);
+      const std::uint32_t ea = owners_.edge(sa);
+      QueuedPair* end = out.queued.room(64);  // as in find()
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         const std::uint32_t sb = begin + j;
         ++tested;
-        if (const unsigned mq = qx.overlap_mask(quarters(j)))
-          tests_.queue_ee(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), mq, leaf,
-                          leaf, out);
+        const unsigned mq = qx.overlap_mask(quarters(j));
+        *end = Tests::ee_entry(ea, owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), mq, leaf, leaf);
+        end += mq != 0;
       }
+      out.queued.set_end(end);
     }
     out.stats.feature_box_tests += tested;
   }
@@ -244,23 +255,36 @@ class OwnedPairs {
       const std::uint32_t v = owners_.vertex(s);
       std::uint64_t meet = met[lane];
       if constexpr (Self) meet &= owners_.apart_faces(s);
+      if (!meet) continue;
+      if (defer) {
+        for (; meet; meet &= meet - 1) {
+          const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
+          const Triangle& t = owners_.face_corners(face_slot + k);
+          if (!Self && has_corner(t, v)) continue;
+          ++tested;
+          tests_.queue_vf_pending(v, t, faces[k], within, p, q, out);
+        }
+        continue;
+      }
+      const Quarters& vq = swept.vertex_quarters_at(s);
+      // as in find(): every pair written at the queue's end, kept where the quarters meet
+      QueuedPair* end = out.queued.room(64);
       for (; meet; meet &= meet - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = owners_.face_corners(face_slot + k);
         if (!Self && has_corner(t, v)) continue;
         ++tested;
-        if (defer) {
-          tests_.queue_vf_pending(v, t, faces[k], within, p, q, out);
-          continue;
-        }
         if (!(merged >> k & 1u)) {
           const Triangle& c = owners_.face_corner_slots(face_slot + k);
           face_quarters[k].merge_of(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
           face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
           merged |= 1u << k;
         }
-        tests_.queue_vf(v, swept.vertex_quarters_at(s), t, faces[k], face_quarters[k], p, q, out);
+        const unsigned mq = vq.overlap_mask(face_quarters[k]);
+        *end = Tests::vf_entry(v, t, faces[k], mq, p, q);
+        end += mq != 0;
       }
+      out.queued.set_end(end);
     }
     out.stats.feature_box_tests += tested;
   }

@@ -3,7 +3,10 @@
 /// pass) produces: its part of the next front, its contacts, its counters. Each unit writes
 /// only its own output; outputs are joined after the parallel loop, in unit order, so the
 /// result does not depend on scheduling.
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
+#include <memory>
 #include <vector>
 
 #include <mccd/core/bvtt_node.h>
@@ -38,6 +41,41 @@ struct QueuedPair {
   std::uint8_t kind, quarters;  ///< kind: 0 vertex-face, 1 edge-edge; quarters: the 4-bit mask
 };
 
+/// The queue of feature pairs a unit waits to send to the narrow phase: a plain array that
+/// grows and is emptied, no more. Besides push_back(), a loop that decides per pair whether to
+/// keep it can write every pair at the end (room()) and advance the end only by the pairs it
+/// keeps (set_end()), without a branch on the decision.
+class PairQueue {
+ public:
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  QueuedPair* data() { return data_.get(); }
+  const QueuedPair* data() const { return data_.get(); }
+  void clear() { size_ = 0; }
+  void push_back(const QueuedPair& p) {
+    if (size_ == capacity_) grow(size_ + 1);
+    data_[size_++] = p;
+  }
+  /// The end of the queue, with room for `n` entries written from there.
+  QueuedPair* room(std::size_t n) {
+    if (size_ + n > capacity_) grow(size_ + n);
+    return data_.get() + size_;
+  }
+  /// The queue ends at `end` (from room(): entries written before it are kept).
+  void set_end(const QueuedPair* end) { size_ = static_cast<std::size_t>(end - data_.get()); }
+
+ private:
+  void grow(std::size_t need) {
+    const std::size_t capacity = std::max({need, 2 * capacity_, std::size_t(1024)});
+    std::unique_ptr<QueuedPair[]> data(new QueuedPair[capacity]);  // left uninitialised
+    if (size_) std::memcpy(data.get(), data_.get(), size_ * sizeof(QueuedPair));
+    data_ = std::move(data);
+    capacity_ = capacity;
+  }
+  std::unique_ptr<QueuedPair[]> data_;
+  std::size_t size_ = 0, capacity_ = 0;
+};
+
 struct WorkerOutput {
   std::vector<NodePair> front;       ///< the front nodes this unit keeps or sprouts
   std::vector<RawContact> contacts;  ///< found by this unit, not yet handed to the buffer
@@ -45,7 +83,7 @@ struct WorkerOutput {
   /// Nodes this unit left to be traversed by tasks of their own (a sprout past its block's
   /// budget of work, BvttFront::track).
   std::vector<NodePair> left;
-  std::vector<QueuedPair> queued;    ///< feature pairs waiting for the narrow phase
+  PairQueue queued;                  ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts
   void clear() {
     front.clear();

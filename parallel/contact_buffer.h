@@ -31,7 +31,7 @@ using ContactBuffer = tbb::concurrent_vector<RawContact, LargeAllocator<RawConta
 inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
   if (!out.contacts.empty()) buffer.grow_by(out.contacts.begin(), out.contacts.end());
   out.contacts = std::vector<RawContact>();
-  out.queued = std::vector<QueuedPair>();
+  out.queued = PairQueue();
   out.stack = std::vector<NodePair>();
 }
 

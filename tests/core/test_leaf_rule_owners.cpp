@@ -106,3 +106,32 @@ TEST(LeafOwnership, ApartMasksNameEachLeafsNonAdjacentPairs) {
   check_apart_masks(make_sphere_mesh(8, 12), 7);
   check_apart_masks(make_grid_mesh(7), 1);
 }
+
+// The end filter may pass an edge that shares no end with a leaf's edges (a hash collision),
+// but never fails one that shares an end: find() skips its exact test only where it fails.
+TEST(LeafOwnership, EndFilterPassesEveryEdgeSharingAnEnd) {
+  for (const TriMesh& m : {make_grid_mesh(12), make_sphere_mesh(8, 12)}) {
+    MeshTopology topo(m.num_vertices(), m.faces);
+    BvhTopology bvh(triangle_bounds(m.faces, m.vertices), BvhBuild::Sah, 8);
+    LeafOwnership owners(bvh, topo);
+    const std::size_t edges = topo.num_edges();
+    std::size_t sharing = 0, failed = 0;
+    for (std::uint32_t n = 0; n < bvh.size(); ++n) {
+      if (!bvh.leaf(n)) continue;
+      const LeafOwnership::EndFilter& filter = owners.end_filter(n);
+      for (std::uint32_t s = 0; s < edges; ++s) {
+        bool shares = false;
+        for (std::uint32_t t = owners.edge_begin(n); t != owners.edge_begin(n + 1); ++t)
+          shares |= shares_end(owners.edge_ends(s), owners.edge_ends(t));
+        const bool passes = LeafOwnership::may_share_end(filter, owners.edge_ends(s));
+        if (shares) {
+          ++sharing;
+          EXPECT_TRUE(passes) << "leaf " << n << ", edge slot " << s;
+        }
+        failed += !passes;
+      }
+    }
+    EXPECT_GT(sharing, 0u);
+    EXPECT_GT(failed, 0u) << "the filter skips nothing";
+  }
+}

@@ -133,5 +133,30 @@ TEST(ContactOrder, JoinIsTheSameThroughBothSorts) {
   }
 }
 
+
+// The narrow phase's queue (core/worker_output.h): entries written past the end through room()
+// are kept up to set_end(), in order, and growing keeps every entry kept so far.
+TEST(PairQueue, KeepsWhatSetEndKeepsAcrossGrowth) {
+  PairQueue q;
+  std::vector<std::uint32_t> expect;
+  std::uint32_t next = 0;
+  for (int round = 0; round < 200; ++round) {
+    q.push_back(QueuedPair{{next, 0, 0, 0}, next, 0, 0, 0, 0, 0});
+    expect.push_back(next++);
+    QueuedPair* end = q.room(64);
+    for (int i = 0; i < 64; ++i, ++next) {
+      *end = QueuedPair{{next, 0, 0, 0}, next, 0, 0, 0, 0, 0};
+      const bool keep = next % 3 == 0;
+      if (keep) expect.push_back(next);
+      end += keep;
+    }
+    q.set_end(end);
+  }
+  ASSERT_EQ(q.size(), expect.size());
+  for (std::size_t i = 0; i < expect.size(); ++i) ASSERT_EQ(q.data()[i].a, expect[i]) << "entry " << i;
+  q.clear();
+  EXPECT_TRUE(q.empty());
+}
+
 }  // namespace
 }  // namespace mccd::detail
