@@ -133,15 +133,11 @@ class FeatureTests {
   /// quarters, is the filter over the volumes' quarters.
   static constexpr std::uint8_t kVolumesPending = 0x10;
 
-  /// Queues edges a and b (sharing no vertex, ends ea and eb) whose quarter volumes overlap in
-  /// `quarters` (non-zero).
-  void queue_ee(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
-                std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
-    out.queued.push_back(ee_entry(a, ea, b, eb, quarters, leaf_a, leaf_b));
-  }
-  /// The queue entries of a vertex-face pair and of an edge-edge pair whose quarter volumes
-  /// overlap in `quarters`, built without a branch: loops that write every pair and keep
-  /// only those whose quarters are not empty use them (PairQueue::room()).
+  /// The queue entries (out.queued) of a vertex-face pair and of an edge-edge pair (sharing no
+  /// vertex) whose quarter volumes overlap in `quarters` (empty: not queued), or with
+  /// kVolumesPending, whose volumes are to be tested after the filter in the quarters named.
+  /// Built without a branch: loops write every pair at the queue's end and keep those whose
+  /// quarters are not empty by moving the end (PairQueue::room()).
   static QueuedPair vf_entry(std::uint32_t v, const Triangle& t, std::uint32_t f, unsigned quarters,
                              std::uint32_t leaf_a, std::uint32_t leaf_b) {
     return {{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)};
@@ -162,18 +158,6 @@ class FeatureTests {
     p.kind = 1;
     p.quarters = static_cast<std::uint8_t>(quarters);
     return p;
-  }
-
-  /// Queues vertex v against face f (corners t) with their quarter volumes untested
-  /// (kVolumesPending): `within`, quarters that hold every quarter in which they overlap.
-  void queue_vf_pending(std::uint32_t v, const Triangle& t, std::uint32_t f, unsigned within, std::uint32_t leaf_a,
-                        std::uint32_t leaf_b, WorkerOutput& out) const {
-    out.queued.push_back({{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(within | kVolumesPending)});
-  }
-  /// The same for edges a and b (sharing no vertex, ends ea and eb).
-  void queue_ee_pending(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned within,
-                        std::uint32_t leaf_a, std::uint32_t leaf_b, WorkerOutput& out) const {
-    queue_ee(a, ea, b, eb, within | kVolumesPending, leaf_a, leaf_b, out);
   }
 
   /// The narrow phase of every queued pair, in order (until the query stops); found(leaf_a,

@@ -129,25 +129,32 @@ class OwnedPairs {
     vertices_against<false>(b, a, m.alive_vb, m.vertex_faces_ba, out, defer, within);
     if (!m.alive_ea || !m.alive_eb) return;
     // Pairs of edges that share an end always meet (both volumes hold the end's): they are
-    // told apart among those, and not counted as tests. B's edges' quarter volumes are merged
-    // from their ends' when first needed.
+    // told apart among those, and not counted as tests.
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t fa = owners_.edge_begin(a), fb = owners_.edge_begin(b);
     Quarters qb[kMaxOwned];
-    std::uint64_t merged = 0;
+    if (!defer) {  // B's edges' quarter volumes, merged from their ends' where any of A's meets them
+      std::uint64_t need = 0;
+      for (std::uint64_t left = m.alive_ea; left; left &= left - 1) need |= m.edges[std::countr_zero(left)];
+      for (; need; need &= need - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(need));
+        swept.edge_quarters_into(fb + j, qb[j]);
+      }
+    }
     const LeafOwnership::EndFilter& ends_b = owners_.end_filter(b);  // most edges share no end with b's
     std::uint64_t tested = 0;
     for (std::uint64_t left = m.alive_ea; left; left &= left - 1) {
       const std::uint32_t sa = fa + static_cast<unsigned>(std::countr_zero(left));
       const Edge& x = owners_.edge_ends(sa);
       std::uint64_t meet = m.edges[sa - fa];
+      const std::uint32_t ea = owners_.edge(sa);
       if (defer) {  // queued as they come, the volumes tested after the filter
         for (; meet; meet &= meet - 1) {
           const std::uint32_t sb = fb + static_cast<unsigned>(std::countr_zero(meet));
           const Edge& y = owners_.edge_ends(sb);
           if (shares_end(x, y)) continue;
           ++tested;
-          tests_.queue_ee_pending(owners_.edge(sa), x, owners_.edge(sb), y, within, a, b, out);
+          out.queued.push_back(Tests::ee_entry(ea, x, owners_.edge(sb), y, within | Tests::kVolumesPending, a, b));
         }
         continue;
       }
@@ -157,19 +164,14 @@ class OwnedPairs {
           if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
         }
       if (!meet) continue;
+      // every pair written at the queue's end (room for a mask's 64 bits: a population count is
+      // a library call in a portable build), kept by moving the end
+      QueuedPair* end = out.queued.room(64);
       Quarters qx;
       swept.edge_quarters_into(sa, qx);
-      const std::uint32_t ea = owners_.edge(sa);
-      // every pair written at the queue's end, kept where the quarters meet: no branch on that
-      // (room for a mask's 64 bits: a population count is a library call in a portable build)
-      QueuedPair* end = out.queued.room(64);
-      for (; meet; meet &= meet - 1) {
+      for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         const std::uint32_t sb = fb + j;
-        if (!(merged >> j & 1u)) {
-          swept.edge_quarters_into(sb, qb[j]);
-          merged |= std::uint64_t(1) << j;
-        }
         ++tested;
         const unsigned mq = qx.overlap_mask(qb[j]);
         *end = Tests::ee_entry(ea, x, owners_.edge(sb), owners_.edge_ends(sb), mq, a, b);
@@ -195,38 +197,43 @@ class OwnedPairs {
     vertices_against<true>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
                            out, defer, 0xF);
     const SweptVolumes<BV>& swept = tests_.swept();
-    Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged when first needed
-    std::uint64_t merged = 0;
-    auto quarters = [&](unsigned j) -> const Quarters& {
-      if (!(merged >> j & 1u)) {
-        swept.edge_quarters_into(begin + j, q[j]);
-        merged |= std::uint64_t(1) << j;
+    Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged where a pair needs them
+    if (!defer) {
+      std::uint64_t need = 0;
+      for (std::uint64_t left = with_later; left; left &= left - 1) {
+        const unsigned i = static_cast<unsigned>(std::countr_zero(left));
+        const std::uint64_t meet = m.edges[i] & owners_.apart_edges(begin + i);
+        need |= meet | (meet ? std::uint64_t(1) << i : 0);
       }
-      return q[j];
-    };
+      for (; need; need &= need - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(need));
+        swept.edge_quarters_into(begin + j, q[j]);
+      }
+    }
     std::uint64_t tested = 0;
     for (std::uint64_t left = with_later; left; left &= left - 1) {
       const unsigned i = static_cast<unsigned>(std::countr_zero(left));
       const std::uint32_t sa = begin + i;
       std::uint64_t meet = m.edges[i] & owners_.apart_edges(sa);
       if (!meet) continue;
+      const std::uint32_t ea = owners_.edge(sa);
+      QueuedPair* end = out.queued.room(64);  // as in find()
       if (defer) {
         for (; meet; meet &= meet - 1) {
           ++tested;
           const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
-          tests_.queue_ee_pending(owners_.edge(sa), owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), 0xF,
-                                  leaf, leaf, out);
+          *end++ = Tests::ee_entry(ea, owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb),
+                                   0xF | Tests::kVolumesPending, leaf, leaf);
         }
+        out.queued.set_end(end);
         continue;
       }
-      const Quarters& qx = quarters(i);
-      const std::uint32_t ea = owners_.edge(sa);
-      QueuedPair* end = out.queued.room(64);  // as in find()
+      const Quarters& qx = q[i];
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         const std::uint32_t sb = begin + j;
         ++tested;
-        const unsigned mq = qx.overlap_mask(quarters(j));
+        const unsigned mq = qx.overlap_mask(q[j]);
         *end = Tests::ee_entry(ea, owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), mq, leaf, leaf);
         end += mq != 0;
       }
@@ -246,40 +253,48 @@ class OwnedPairs {
     const SweptVolumes<BV>& swept = tests_.swept();
     const std::uint32_t* faces = bvh_.leaf_triangles(q);
     const std::uint32_t face_slot = bvh_.leaf_first(q), begin = owners_.vertex_begin(p);
+    auto meets = [&](unsigned lane) {
+      std::uint64_t meet = met[lane];
+      if constexpr (Self) meet &= owners_.apart_faces(begin + lane);
+      return meet;
+    };
     Quarters face_quarters[BvhTopology::kMaxLeaf];
-    unsigned merged = 0;  // bit k: face k's quarters merged
+    if (!defer) {  // the faces' quarter volumes, merged from their corners' where a vertex meets them
+      std::uint64_t need = 0;
+      for (std::uint64_t left = alive; left; left &= left - 1) need |= meets(static_cast<unsigned>(std::countr_zero(left)));
+      for (; need; need &= need - 1) {
+        const unsigned k = static_cast<unsigned>(std::countr_zero(need));
+        const Triangle& c = owners_.face_corner_slots(face_slot + k);
+        face_quarters[k].merge_of(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
+        face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
+      }
+    }
     std::uint64_t tested = 0;
     for (; alive; alive &= alive - 1) {
       const unsigned lane = static_cast<unsigned>(std::countr_zero(alive));
       const std::uint32_t s = begin + lane;
       const std::uint32_t v = owners_.vertex(s);
-      std::uint64_t meet = met[lane];
-      if constexpr (Self) meet &= owners_.apart_faces(s);
+      std::uint64_t meet = meets(lane);
       if (!meet) continue;
+      // every pair written at the queue's end, as in find()
+      QueuedPair* end = out.queued.room(64);
       if (defer) {
         for (; meet; meet &= meet - 1) {
           const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
           const Triangle& t = owners_.face_corners(face_slot + k);
           if (!Self && has_corner(t, v)) continue;
           ++tested;
-          tests_.queue_vf_pending(v, t, faces[k], within, p, q, out);
+          *end++ = Tests::vf_entry(v, t, faces[k], within | Tests::kVolumesPending, p, q);
         }
+        out.queued.set_end(end);
         continue;
       }
       const Quarters& vq = swept.vertex_quarters_at(s);
-      // as in find(): every pair written at the queue's end, kept where the quarters meet
-      QueuedPair* end = out.queued.room(64);
-      for (; meet; meet &= meet - 1) {
+      for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = owners_.face_corners(face_slot + k);
         if (!Self && has_corner(t, v)) continue;
         ++tested;
-        if (!(merged >> k & 1u)) {
-          const Triangle& c = owners_.face_corner_slots(face_slot + k);
-          face_quarters[k].merge_of(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
-          face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
-          merged |= 1u << k;
-        }
         const unsigned mq = vq.overlap_mask(face_quarters[k]);
         *end = Tests::vf_entry(v, t, faces[k], mq, p, q);
         end += mq != 0;
