@@ -104,7 +104,10 @@ LeafOwnership::LeafOwnership(const BvhTopology& bvh, const MeshTopology& topo, c
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i != e; ++i)
       for (std::uint32_t s = edge_begin_[i]; s != edge_begin_[i + 1]; ++s)
-        for (std::uint32_t v : edge_ends_[s]) end_filters_[i].bits[end_hash(v) >> 6] |= std::uint64_t(1) << (end_hash(v) & 63);
+        for (std::uint32_t v : edge_ends_[s]) {
+          const unsigned h = end_hash(v);
+          end_filters_[i].bits[h >> 6] |= std::uint64_t(1) << (h & 63);
+        }
   });
   foreign_begin_.assign(bvh.size() + 1, 0);
   node_blocks(bvh.size(), [&](std::size_t b, std::size_t e) {

@@ -261,7 +261,8 @@ class OwnedPairs {
     Quarters face_quarters[BvhTopology::kMaxLeaf];
     if (!defer) {  // the faces' quarter volumes, merged from their corners' where a vertex meets them
       std::uint64_t need = 0;
-      for (std::uint64_t left = alive; left; left &= left - 1) need |= meets(static_cast<unsigned>(std::countr_zero(left)));
+      for (std::uint64_t left = alive; left; left &= left - 1)
+        need |= meets(static_cast<unsigned>(std::countr_zero(left)));
       for (; need; need &= need - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(need));
         const Triangle& c = owners_.face_corner_slots(face_slot + k);
