@@ -278,13 +278,18 @@ void coplanar_quarters_of(const double* x0, const double* x1, const std::uint32_
     // dropped, each quarter of the others kept unless of one sign, among the quarters asked for
     unsigned kept[4] = {0, 0, 0, 0};
     const unsigned whole = definite_lanes(f, ef);
-    V h[2][4];
-    const V eh = split(f, ef, h[0], h[1]);
-    for (unsigned i = 0; i < 2; ++i) {
-      const unsigned hd = definite_lanes(h[i], eh);
-      V qh[2][4];
-      const V eq = split(h[i], eh, qh[0], qh[1]);
-      for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite_lanes(qh[j], eq);
+    // Where every pair's cubic is of one sign over the whole step (most registers of a
+    // sub-step's pairs), no quarter is kept and the halves are not needed.
+    const unsigned active = m >= 32 ? ~0u : (1u << m) - 1;
+    if ((whole & active) != active) {
+      V h[2][4];
+      const V eh = split(f, ef, h[0], h[1]);
+      for (unsigned i = 0; i < 2; ++i) {
+        const unsigned hd = definite_lanes(h[i], eh);
+        V qh[2][4];
+        const V eq = split(h[i], eh, qh[0], qh[1]);
+        for (unsigned j = 0; j < 2; ++j) kept[2 * i + j] = ~whole & ~hd & ~definite_lanes(qh[j], eq);
+      }
     }
     const unsigned range = in_range(q);
     for (unsigned i = 0; i < m; ++i) {

@@ -260,6 +260,58 @@ TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
   }
 }
 
+// Runs of queries whose cubic is of one sign over the whole step, as in a sub-step, fill whole
+// registers (the kernels then skip the halves and quarters); every other run has one query in
+// a plane (kept in every quarter asked for) at a different place in the run.
+TEST(LaneMasks, CoplanarQuartersOfRunsOfOneSign) {
+  const auto levels = test::available_levels();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
+    const std::size_t run = 32, n = 40 * run;
+    std::vector<double> x0(3 * 4 * n), x1(3 * 4 * n);
+    std::vector<std::array<std::uint32_t, 4>> ids(n);
+    std::vector<std::uint8_t> within(n);
+    for (std::size_t q = 0; q < n; ++q) {
+      const std::size_t r = q / run;
+      const bool planar = r % 2 == 1 && q % run == r % run;
+      within[q] = static_cast<std::uint8_t>(q % 3 == 0 ? 0xF : 1 + rng() % 15);
+      for (int k = 0; k < 4; ++k) {
+        ids[q][k] = static_cast<std::uint32_t>(4 * q + static_cast<std::size_t>(k));
+        for (int c = 0; c < 3; ++c) {
+          // a tetrahedron far from flat, moving by a thousandth of its size
+          const double v = (c == k - 1 ? 1.0 : 0.0) + 0.1 * U(rng);
+          const std::size_t i = 3 * ids[q][k] + c;
+          x0[i] = v;
+          x1[i] = v + 1e-3 * U(rng);
+          if (planar && c == 2) x0[i] = x1[i] = 0.5;
+        }
+      }
+    }
+    std::vector<std::uint8_t> expected(n);
+    std::size_t removed = 0, planar_kept = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      CcdPoints p;
+      for (int k = 0; k < 4; ++k) {
+        p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
+        p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
+      }
+      expected[q] = expected_quarters(kind, p, within[q]);
+      removed += expected[q] == 0;
+      planar_kept += expected[q] == within[q] && (q / run) % 2 == 1 && q % run == (q / run) % run;
+    }
+    EXPECT_EQ(removed, n - n / run / 2) << "every query removed but the planar ones";
+    EXPECT_EQ(planar_kept, n / run / 2) << "every planar query kept in the quarters asked for";
+    const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
+    for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
+    for (const LaneKernels* k : levels) {
+      std::vector<std::uint8_t> got(n, 0x77);
+      k->coplanar_quarters(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), within.data(), n, got.data());
+      ASSERT_EQ(got, expected) << to_string(k->level);
+    }
+  }
+}
+
 TEST(LaneMasks, CoplanarQuartersMatchTheFilterAtItsErrorBounds) {
   // Queries flattened towards a plane until the filter's result changes: the cubic's
   // coefficients (or its halves' or quarters') then lie at their error bounds, and the kernels
