@@ -209,10 +209,40 @@ std::uint8_t expected_quarters(CcdKind kind, const CcdPoints& p, unsigned within
   return in_range(p) ? static_cast<std::uint8_t>(coplanar_quarters(kind, p, 0.0, within)) : kUndecided;
 }
 
+/// expected_quarters of each query q (its four vertices ids[q] at the interleaved positions
+/// x0 and x1, the quarters within[q]).
+std::vector<std::uint8_t> expected_of(CcdKind kind, const std::vector<double>& x0, const std::vector<double>& x1,
+                                      const std::vector<std::array<std::uint32_t, 4>>& ids,
+                                      const std::vector<std::uint8_t>& within) {
+  std::vector<std::uint8_t> expected(ids.size());
+  for (std::size_t q = 0; q < ids.size(); ++q) {
+    CcdPoints p;
+    for (int k = 0; k < 4; ++k) {
+      p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
+      p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
+    }
+    expected[q] = expected_quarters(kind, p, within[q]);
+  }
+  return expected;
+}
+
+/// Every SIMD level's coplanar_quarters on the same queries gives `expected`.
+void expect_every_level(CcdKind kind, const std::vector<double>& x0, const std::vector<double>& x1,
+                        const std::vector<std::array<std::uint32_t, 4>>& ids, const std::vector<std::uint8_t>& within,
+                        const std::vector<std::uint8_t>& expected) {
+  const std::size_t n = ids.size();
+  const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
+  for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
+  for (const LaneKernels* k : test::available_levels()) {
+    std::vector<std::uint8_t> got(n, 0x77);
+    k->coplanar_quarters(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), within.data(), n, got.data());
+    ASSERT_EQ(got, expected) << to_string(k->level);
+  }
+}
+
 }  // namespace
 
 TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
-  const auto levels = test::available_levels();
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> U(-1, 1);
   for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
@@ -236,27 +266,15 @@ TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
         }
       }
     }
-    std::vector<std::uint8_t> expected(n);
+    const std::vector<std::uint8_t> expected = expected_of(kind, x0, x1, ids, within);
     std::size_t removed = 0, kept = 0;
-    for (std::size_t q = 0; q < n; ++q) {
-      CcdPoints p;
-      for (int k = 0; k < 4; ++k) {
-        p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
-        p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
-      }
-      expected[q] = expected_quarters(kind, p, within[q]);
-      removed += expected[q] == 0;
-      kept += expected[q] != 0 && expected[q] != kUndecided;
+    for (std::uint8_t e : expected) {
+      removed += e == 0;
+      kept += e != 0 && e != kUndecided;
     }
     EXPECT_GT(removed, n / 4);
     EXPECT_GT(kept, n / 20);
-    const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
-    for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
-    for (const LaneKernels* k : levels) {
-      std::vector<std::uint8_t> got(n, 0x77);
-      k->coplanar_quarters(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), within.data(), n, got.data());
-      ASSERT_EQ(got, expected) << to_string(k->level);
-    }
+    expect_every_level(kind, x0, x1, ids, within, expected);
   }
 }
 
@@ -264,7 +282,6 @@ TEST(LaneMasks, CoplanarQuartersAreTheFiltersOwn) {
 // registers (the kernels then skip the halves and quarters); every other run has one query in
 // a plane (kept in every quarter asked for) at a different place in the run.
 TEST(LaneMasks, CoplanarQuartersOfRunsOfOneSign) {
-  const auto levels = test::available_levels();
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> U(-1, 1);
   for (CcdKind kind : {CcdKind::VertexFace, CcdKind::EdgeEdge}) {
@@ -288,27 +305,15 @@ TEST(LaneMasks, CoplanarQuartersOfRunsOfOneSign) {
         }
       }
     }
-    std::vector<std::uint8_t> expected(n);
+    const std::vector<std::uint8_t> expected = expected_of(kind, x0, x1, ids, within);
     std::size_t removed = 0, planar_kept = 0;
     for (std::size_t q = 0; q < n; ++q) {
-      CcdPoints p;
-      for (int k = 0; k < 4; ++k) {
-        p.start[k] = Vec3(x0[3 * ids[q][k]], x0[3 * ids[q][k] + 1], x0[3 * ids[q][k] + 2]);
-        p.end[k] = Vec3(x1[3 * ids[q][k]], x1[3 * ids[q][k] + 1], x1[3 * ids[q][k] + 2]);
-      }
-      expected[q] = expected_quarters(kind, p, within[q]);
       removed += expected[q] == 0;
       planar_kept += expected[q] == within[q] && (q / run) % 2 == 1 && q % run == (q / run) % run;
     }
     EXPECT_EQ(removed, n - n / run / 2) << "every query removed but the planar ones";
     EXPECT_EQ(planar_kept, n / run / 2) << "every planar query kept in the quarters asked for";
-    const std::unique_ptr<std::uint32_t[][4]> raw(new std::uint32_t[n][4]);
-    for (std::size_t q = 0; q < n; ++q) std::copy(ids[q].begin(), ids[q].end(), raw[q]);
-    for (const LaneKernels* k : levels) {
-      std::vector<std::uint8_t> got(n, 0x77);
-      k->coplanar_quarters(kind == CcdKind::VertexFace, x0.data(), x1.data(), raw.get(), within.data(), n, got.data());
-      ASSERT_EQ(got, expected) << to_string(k->level);
-    }
+    expect_every_level(kind, x0, x1, ids, within, expected);
   }
 }
 
