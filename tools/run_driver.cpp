@@ -375,6 +375,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
   StepAccumulator acc(K);
   RunTotals totals;
   SnapshotPicker picker(st.image_step, K);
+  const bool pictures = !st.image.empty() || !st.colored.empty();
   std::size_t steps_done = 0;
 
   const InterruptCleanup on_signal([&](int sig) {
@@ -408,7 +409,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
     const std::size_t s = ps.index - 1, k = s / std::size_t(K), j = s % std::size_t(K);
     std::lock_guard<std::mutex> lock(interrupt_mutex());
     out.add(k, j, ps.result);
-    picker.offer(k, j, ps.result);
+    if (pictures) picker.offer(k, j, ps.result);  // a copy of the contacts: only for a picture
     if (acc.add(k, j, ps.result)) {
       totals.add(acc.row());
       steps_done = k + 1;
