@@ -123,26 +123,35 @@ int toi_check(const ToiOptions& a) {
                    std::vector<std::uint64_t>& got) {
     std::sort(got.begin(), got.end());
     got.erase(std::unique(got.begin(), got.end()), got.end());
-    auto has = [](const std::vector<std::uint64_t>& v, std::uint64_t x) {
-      return std::binary_search(v.begin(), v.end(), x);
+    // Pairs may be listed in either order: both sides compared as (smaller id, larger id),
+    // sorted, in one merge each way.
+    auto unordered = [](std::uint64_t k) {
+      const std::uint64_t a = k >> 32, b = k & 0xffffffffu;
+      return a <= b ? k : key(b, a);
+    };
+    auto sorted_unordered = [&](const std::vector<std::uint64_t>& keys) {
+      std::vector<std::uint64_t> out(keys.size());
+      std::transform(keys.begin(), keys.end(), out.begin(), unordered);
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    const std::vector<std::uint64_t> got_u = sorted_unordered(got), truth_u = sorted_unordered(truth);
+    // How many of `keys` (sorted) are in `in` (sorted).
+    auto count_in = [](const std::vector<std::uint64_t>& keys, const std::vector<std::uint64_t>& in) {
+      std::size_t n = 0;
+      auto it = in.begin();
+      for (std::uint64_t k : keys) {
+        while (it != in.end() && *it < k) ++it;
+        n += it != in.end() && *it == k;
+      }
+      return n;
     };
     KindReport k;
     k.listed = listed;
     k.truth = truth.size();
-    std::vector<std::uint64_t> truth_keys;  // pairs may be listed in either order: both
-    truth_keys.reserve(2 * truth.size());
-    for (auto t : truth) {
-      const std::uint64_t swapped = key(t & 0xffffffffu, t >> 32);
-      truth_keys.push_back(t);
-      truth_keys.push_back(swapped);
-      if (has(got, t) || has(got, swapped))
-        ++k.found;
-      else
-        ++k.missed;
-    }
-    std::sort(truth_keys.begin(), truth_keys.end());
-    for (auto g : got)
-      if (!has(truth_keys, g)) ++k.beyond;
+    k.found = count_in(truth_u, got_u);
+    k.missed = truth.size() - k.found;
+    k.beyond = got.size() - count_in(got_u, truth_u);
     std::printf("  %s: %zu listed pairs, %zu true; reported %zu: found %zu, missed %zu (false negatives), %zu beyond the list\n",
                 kind, k.listed, k.truth, got.size(), k.found, k.missed, k.beyond);
     return k;
