@@ -18,11 +18,11 @@ namespace {
 
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 
-/// One file's top-level array as it streams past: its entries counted, each kept through
-/// `take` (a well-formed one) or counted as the first malformed one (`bad`, its index). What
-/// is well formed is the subclass's: `scalar` sees each number or boolean inside an entry
-/// (`depth`: 1 for an entry itself, 2 for an item of an entry array), `entry_done` decides
-/// when an entry ends.
+/// One file's top-level array as it streams past: its entries counted, the first malformed
+/// one's index kept (`bad`). What is well formed is the subclass's: `scalar` sees each value
+/// of an entry (`depth` 1: the entry is that value; 2: an item of an entry that is an array),
+/// `entry_ends` keeps an entry and says whether it was well formed. Anything nested deeper,
+/// and any object, makes the entry malformed.
 class TopArray : public nlohmann::json_sax<nlohmann::json> {
  public:
   bool top_array = false;  ///< the document is an array
