@@ -113,9 +113,12 @@ std::vector<std::string> caption(const RunInput& input, const FrameNames& names,
   return {input.description, when, what};
 }
 
+/// Whether the run draws a picture or writes a coloured mesh of its snapshot.
+bool wants_pictures(const RunSettings& st) { return !st.image.empty() || !st.colored.empty(); }
+
 /// Draws the picture and the coloured mesh of the chosen moment.
 void write_pictures(const RunInput& input, const RunSettings& st, const FrameNames& names, std::optional<Snapshot> snap) {
-  if (st.image.empty() && st.colored.empty()) return;
+  if (!wants_pictures(st)) return;
   const bool any = snap.has_value();
   if (!snap) {
     snap = Snapshot{0, 0, st.substeps, 0.0, {}};
@@ -375,7 +378,7 @@ int run_frames_here(const RunInput& input, const RunSettings& st, const std::str
   StepAccumulator acc(K);
   RunTotals totals;
   SnapshotPicker picker(st.image_step, K);
-  const bool pictures = !st.image.empty() || !st.colored.empty();
+  const bool pictures = wants_pictures(st);
   std::size_t steps_done = 0;
 
   const InterruptCleanup on_signal([&](int sig) {
