@@ -8,6 +8,9 @@
 #   mccd_scenes (the generated scenes are made once, in $CACHE, default /tmp/mccd-scenes).
 #   SCENES (cloth-ball,n-body,bart,skirt,toi,toi-5sub,drape), METHODS (fbd,phc), THREADS
 #   (1,2,16), ROUNDS (3) and STEPS (6: the generated scenes' last frame intervals) tune it.
+#   The drape simulates its 10 frames serially before each run (about 8 s there and here): at
+#   the defaults its 36 runs take about 5 minutes, a lent machine's budget of 15 for a session.
+#   Name the scenes (SCENES) and leave it out unless it is what the call is for.
 # Prints, and writes to OUT_FILE, one line per variant: the medians of A and B (ms in steps
 # per frame interval) and A / B.
 set -euo pipefail

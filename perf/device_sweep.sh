@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The 16-core sweep as one prepared script (perf/README: "A lent machine"): bench_core over
-# every scene at the given thread counts, then the 200K-triangle drape through `mccd run`.
+# The 16-core sweep as one prepared script (README: "16 cores"): bench_core over every scene at
+# the given thread counts, then the 200K-triangle drape through `mccd run` (each run simulates
+# its frames serially first, about 8 s: DRAPE_THREADS=1,16 saves a minute of the call).
 # Usage: perf/device_sweep.sh BIN_DIR DATA_DIR OUT_DIR [LABEL]
 #   BIN_DIR holds bench_core and mccd (and lib/ with the libtbb they link, when carried);
 #   THREADS (default 1,2,4,8,16), REPEATS (3), METHODS (phc,fbd), SCENES (all) and
