@@ -1,6 +1,7 @@
 #include <mccd/parallel/contact_buffer.h>
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <vector>
 
@@ -10,10 +11,83 @@
 
 namespace mccd::detail {
 
+namespace {
+
+/// The kinds and the earliest time of impact of a run of contacts: sums and a minimum, the
+/// same whatever runs the contacts are cut into and in whatever order they are added up.
+struct Tally {
+  std::atomic<std::uint64_t> vf{0}, ee{0};
+  std::atomic<double> earliest{std::numeric_limits<double>::infinity()};
+
+  void add(std::uint64_t v, std::uint64_t e, double t) {
+    vf.fetch_add(v, std::memory_order_relaxed);
+    ee.fetch_add(e, std::memory_order_relaxed);
+    double m = earliest.load(std::memory_order_relaxed);
+    while (t < m && !earliest.compare_exchange_weak(m, t, std::memory_order_relaxed)) {
+    }
+  }
+};
+
+/// Contacts [begin, end) of the canonical order into `out` (raw(i): the i-th raw record in
+/// that order), tallied.
+template <class Raw>
+void convert(const Raw& raw, std::size_t begin, std::size_t end, const SceneTopology& scene, std::vector<Contact>& out,
+             Tally& tally) {
+  std::uint64_t vf = 0, ee = 0;
+  double earliest = std::numeric_limits<double>::infinity();
+  // The packed order reads the buffer at random: each record a cache miss unless asked for
+  // ahead (16 records ahead hid most of the latency).
+  constexpr std::size_t kAhead = 16;
+  for (std::size_t i = begin; i != end; ++i) {
+    if (i + kAhead < end) __builtin_prefetch(&raw(i + kAhead));
+    const RawContact& r = raw(i);
+    ++(r.kind() == ContactKind::VertexFace ? vf : ee);
+    earliest = std::min(earliest, r.toi);
+    Contact& c = out[i];
+    c.kind = r.kind();
+    c.toi = r.toi;
+    const std::uint32_t a = r.a(), b = r.b();
+    if (c.kind == ContactKind::VertexFace) {
+      c.mesh_a = scene.mesh_of_vertex(a);
+      c.a = static_cast<std::uint32_t>(a - scene.vertex_offset(c.mesh_a));
+      c.mesh_b = scene.mesh_of_face(b);
+      c.b = static_cast<std::uint32_t>(b - scene.face_offset(c.mesh_b));
+      c.a_vertices = c.b_vertices = {0, 0};
+    } else {
+      c.mesh_a = scene.mesh_of_edge(a);
+      c.a = static_cast<std::uint32_t>(a - scene.edge_offset(c.mesh_a));
+      c.mesh_b = scene.mesh_of_edge(b);
+      c.b = static_cast<std::uint32_t>(b - scene.edge_offset(c.mesh_b));
+      const auto va = static_cast<std::uint32_t>(scene.vertex_offset(c.mesh_a));
+      const auto vb = static_cast<std::uint32_t>(scene.vertex_offset(c.mesh_b));
+      c.a_vertices = {r.vertices[0] - va, r.vertices[1] - va};
+      c.b_vertices = {r.vertices[2] - vb, r.vertices[3] - vb};
+    }
+  }
+  tally.add(vf, ee, earliest);
+}
+
+}  // namespace
+
 void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const SceneTopology& scene, StepResult& res,
-                   bool allow_packed) {
+                   bool allow_packed, bool kept) {
   const std::size_t n = buffer.size();
   const bool large = n > kParallelJoin;
+  // The result's storage first: the contacts are converted into it as the sort finishes each
+  // part of the order, in the sort's own loop.
+  std::vector<Contact>& out = res.contacts;
+  if (!kept || out.capacity() < n) {
+    // A fresh array (it is the caller's); a large one's pages backed in parallel, 64 KiB at a
+    // time (one fault per page, serially, was most of the join's time on many threads).
+    out = std::vector<Contact>();
+    reserve_huge(out, kept ? n + n / 4 : n, /*populate=*/false);
+    auto* bytes = reinterpret_cast<unsigned char*>(out.data());
+    if (large)
+      dynamic_for(n * sizeof(Contact), std::size_t(1) << 16,
+                  [&](std::size_t b, std::size_t e) { populate_pages(bytes + b, e - b); });
+  }
+  out.resize(n);  // a kept list: only what lies past its old end is initialised
+  Tally tally;
   // The contacts' positions in the canonical order (the keys are unique, so any sort gives it).
   const MeshTopology& topo = scene.topology();
   const std::size_t ids = std::max({topo.num_vertices(), topo.num_faces(), topo.num_edges(), std::size_t(1)});
@@ -24,9 +98,11 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
     Keys& operator++() { return ++it, *this; }
     Keys operator+(std::ptrdiff_t i) const { return {it + i}; }
   };
-  const bool packed =
-      allow_packed && packed_key_order(Keys{buffer.begin()}, n, id_bits, scratch.order, &scratch.counts);
   const std::uint64_t pos_mask = (std::uint64_t(1) << position_bits(n)) - 1;
+  auto packed_raw = [&](std::size_t i) -> const RawContact& { return buffer[scratch.order[i] & pos_mask]; };
+  const bool packed =
+      allow_packed && packed_key_order(Keys{buffer.begin()}, n, id_bits, scratch.order, &scratch.counts,
+                                       [&](std::size_t b, std::size_t e) { convert(packed_raw, b, e, scene, out, tally); });
   if (!packed) {
     scratch.raw.assign(buffer.begin(), buffer.end());
     auto before = [](const RawContact& x, const RawContact& y) { return x.key < y.key; };
@@ -34,68 +110,17 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
       tbb::parallel_sort(scratch.raw.begin(), scratch.raw.end(), before);
     else
       std::sort(scratch.raw.begin(), scratch.raw.end(), before);
+    auto sorted_raw = [&](std::size_t i) -> const RawContact& { return scratch.raw[i]; };
+    if (large)
+      chunked_for(
+          n, std::clamp<std::size_t>(n / 64, 256, 4096),
+          [&](std::size_t b, std::size_t e) { convert(sorted_raw, b, e, scene, out, tally); }, tbb::auto_partitioner());
+    else
+      convert(sorted_raw, 0, n, scene, out, tally);
   }
-  auto raw = [&](std::size_t i) -> const RawContact& {
-    return packed ? buffer[scratch.order[i] & pos_mask] : scratch.raw[i];
-  };
-  reserve_huge(res.contacts, n, /*populate=*/!large);
-  if (large) {
-    // A fresh array every step (it is the caller's): its pages backed in parallel, 64 KiB at a
-    // time (one fault per page, serially, was most of the join's time on many threads).
-    auto* bytes = reinterpret_cast<unsigned char*>(res.contacts.data());
-    dynamic_for(n * sizeof(Contact), std::size_t(1) << 16,
-                [&](std::size_t b, std::size_t e) { populate_pages(bytes + b, e - b); });
-  }
-  res.contacts.resize(n);
-  // Converted by chunks, each counting its kinds and its earliest time of impact (added up in
-  // chunk order afterwards: counts and a minimum do not depend on it).
-  const std::size_t per_chunk = std::clamp<std::size_t>(n / 64, 256, 4096);
-  struct Tally {
-    std::uint64_t vf = 0, ee = 0;
-    double earliest = std::numeric_limits<double>::infinity();
-  };
-  std::vector<Tally> tallies((n + per_chunk - 1) / per_chunk);
-  auto convert = [&](std::size_t chunk) {
-    Tally& t = tallies[chunk];
-    // The packed order reads the buffer at random: each record a cache miss unless asked for
-    // ahead (16 records ahead hid most of the latency).
-    constexpr std::size_t kAhead = 16;
-    for (std::size_t i = chunk * per_chunk, end = std::min(n, i + per_chunk); i != end; ++i) {
-      if (i + kAhead < end) __builtin_prefetch(&raw(i + kAhead));
-      const RawContact& r = raw(i);
-      ++(r.kind() == ContactKind::VertexFace ? t.vf : t.ee);
-      t.earliest = std::min(t.earliest, r.toi);
-      Contact& c = res.contacts[i];
-      c.kind = r.kind();
-      c.toi = r.toi;
-      const std::uint32_t a = r.a(), b = r.b();
-      if (c.kind == ContactKind::VertexFace) {
-        c.mesh_a = scene.mesh_of_vertex(a);
-        c.a = static_cast<std::uint32_t>(a - scene.vertex_offset(c.mesh_a));
-        c.mesh_b = scene.mesh_of_face(b);
-        c.b = static_cast<std::uint32_t>(b - scene.face_offset(c.mesh_b));
-        c.a_vertices = c.b_vertices = {0, 0};
-      } else {
-        c.mesh_a = scene.mesh_of_edge(a);
-        c.a = static_cast<std::uint32_t>(a - scene.edge_offset(c.mesh_a));
-        c.mesh_b = scene.mesh_of_edge(b);
-        c.b = static_cast<std::uint32_t>(b - scene.edge_offset(c.mesh_b));
-        const auto va = static_cast<std::uint32_t>(scene.vertex_offset(c.mesh_a));
-        const auto vb = static_cast<std::uint32_t>(scene.vertex_offset(c.mesh_b));
-        c.a_vertices = {r.vertices[0] - va, r.vertices[1] - va};
-        c.b_vertices = {r.vertices[2] - vb, r.vertices[3] - vb};
-      }
-    }
-  };
-  if (large)
-    for_each_index(tallies.size(), convert, tbb::auto_partitioner());
-  else
-    for (std::size_t c = 0; c < tallies.size(); ++c) convert(c);
-  for (const Tally& t : tallies) {
-    res.stats.vf_contacts += t.vf;
-    res.stats.ee_contacts += t.ee;
-    res.earliest_toi = std::min(res.earliest_toi, t.earliest);
-  }
+  res.stats.vf_contacts += tally.vf.load(std::memory_order_relaxed);
+  res.stats.ee_contacts += tally.ee.load(std::memory_order_relaxed);
+  res.earliest_toi = std::min(res.earliest_toi, tally.earliest.load(std::memory_order_relaxed));
 }
 
 }  // namespace mccd::detail

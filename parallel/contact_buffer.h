@@ -43,9 +43,17 @@ inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
 /// pick a bucket (counted and scattered by chunks of keys in parallel, each chunk into its own
 /// slots of each bucket), then the buckets are sorted in parallel. `counts`: where the
 /// per-chunk bucket counts are kept from call to call (a local array when null).
+/// `sorted(begin, end)` (optional) is called on each run of `order` as soon as it is final
+/// (a group of buckets, inside the same parallel loop that sorted it): a caller that reads the
+/// order once saves a loop and finds the entries in cache.
+template <class KeyIterator, class Sorted>
+bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
+                      std::vector<std::uint32_t>* counts, const Sorted& sorted);
 template <class KeyIterator>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
-                      std::vector<std::uint32_t>* counts = nullptr);
+                      std::vector<std::uint32_t>* counts = nullptr) {
+  return packed_key_order(keys, n, id_bits, order, counts, [](std::size_t, std::size_t) {});
+}
 /// Bits that hold a position below n.
 inline unsigned position_bits(std::size_t n) { return n > 1 ? static_cast<unsigned>(std::bit_width(n - 1)) : 1u; }
 /// Contacts from which the join runs in parallel (below, a loop's tasks cost more than they save).
@@ -61,13 +69,17 @@ struct JoinScratch {
 /// The buffer as public contacts (mesh-local ids, EE vertex ids) in the canonical order, their
 /// VF / EE counts and the earliest time of impact. Sorted in parallel for large steps, in
 /// `scratch` (kept by the caller from step to step, so that its memory is reused).
-/// `allow_packed` false: the record sort always (tests compare the two).
+/// `allow_packed` false: the record sort always (tests compare the two). `kept` (a caller's
+/// kept result, Scene::step into a StepResult): result.contacts may hold a previous step's
+/// list, whose storage is written over when it has room (its pages touched before: no fresh
+/// memory, and no initialisation where the old list reaches), and which otherwise grows with a
+/// quarter to spare for the next step; without `kept` it is empty and gets exactly its size.
 void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const SceneTopology& scene, StepResult& result,
-                   bool allow_packed = true);
+                   bool allow_packed = true, bool kept = false);
 
-template <class KeyIterator>
+template <class KeyIterator, class Sorted>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
-                      std::vector<std::uint32_t>* counts) {
+                      std::vector<std::uint32_t>* counts, const Sorted& sorted) {
   order.clear();
   const unsigned pos_bits = position_bits(n), key_bits = 1 + 2 * id_bits, bits = key_bits + pos_bits;
   if (bits > 64) return false;
@@ -110,6 +122,12 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
       order[next[v >> shift]++] = v;
     }
   };
+  // Grown with a quarter to spare (a growing step after step would otherwise get fresh memory,
+  // pages touched anew, every step), then left uninitialised: every entry is written below.
+  if (order.capacity() < n) {
+    order = LargeVector<std::uint64_t>();
+    order.reserve(n + n / 4);
+  }
   order.resize(n);
   if (nc > 1)
     for_each_index(nc, count, tbb::simple_partitioner());
@@ -139,6 +157,7 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
       else
         std::sort(first, last);
     }
+    if (start[b1] > start[b0]) sorted(start[b0], start[b1]);
   };
   if (n > kParallelJoin)
     chunked_for(nb, std::max<std::size_t>(1, nb / 64), sort_buckets, tbb::auto_partitioner());

@@ -3,6 +3,7 @@
 #include <oneapi/tbb/flow_graph.h>
 
 #include <memory>
+#include <mutex>
 
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/large_allocator.h>
@@ -49,6 +50,10 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   // The positions of the sub-step before last, their storage reused for the next sub-step's
   // (a large mesh's arrays fresh every sub-step would fault in their pages every time).
   std::vector<Positions> spare;
+  // Contact lists the writer is done with, their storage reused by the next steps (a fresh
+  // list every step would touch new pages every time: Scene::step into a StepResult).
+  std::mutex lists_mutex;
+  std::vector<std::vector<Contact>> lists;
   std::size_t steps = 0;
 
   flow::graph g;
@@ -79,10 +84,19 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
       }
       auto s = std::make_shared<Stepped>();
       s->step.index = ++steps;
+      {
+        const std::lock_guard<std::mutex> lock(lists_mutex);
+        if (!lists.empty()) {
+          s->step.result.contacts = std::move(lists.back());
+          lists.pop_back();
+        }
+      }
       // After the first step each starts where the one before ended, the scene's last end:
       // advance() reads and checks only the new end (the same step as step(prev, end)).
-      s->step.result = s->step.index == 1 ? scene.step(views(prev), views(end), options.method)
-                                          : scene.advance(views(end), options.method);
+      if (s->step.index == 1)
+        scene.step(views(prev), views(end), s->step.result, options.method);
+      else
+        scene.advance(views(end), s->step.result, options.method);
       s->last = k == k_max;
       spare = std::move(prev);
       prev = std::move(end);
@@ -93,6 +107,10 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   using WriterNode = flow::multifunction_node<SteppedPtr, std::tuple<flow::continue_msg>>;
   WriterNode writer(g, flow::serial, [&](const SteppedPtr& s, WriterNode::output_ports_type& out) {
     sink(s->step);
+    {
+      const std::lock_guard<std::mutex> lock(lists_mutex);
+      lists.push_back(std::move(s->step.result.contacts));
+    }
     if (s->last) std::get<0>(out).try_put(flow::continue_msg());
   });
 

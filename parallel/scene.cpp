@@ -87,6 +87,11 @@ struct Scene::Impl {
     return std::make_unique<detail::Stepper<BV>>(*topo, options, last_end, std::move(bvh));
   }
 
+  /// Scene::step and Scene::advance; `into` (nullptr: none): the result whose contacts'
+  /// storage the step reuses (run()).
+  StepResult full_step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                       std::optional<Method> method, StepResult* into);
+  StepResult advance(const std::vector<PositionsView>& next, std::optional<Method> method, StepResult* into);
   StepResult query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
                    detail::StepKind kind, StepStats* stats);
 
@@ -179,18 +184,24 @@ struct Scene::Impl {
     return same.load(std::memory_order_relaxed);
   }
 
-  /// `continues`: the step starts where the last one ended (Stepper::step).
+  /// `continues`: the step starts where the last one ended (Stepper::step). `into` (nullptr:
+  /// none): a result whose contact list's storage the step's result takes over (Stepper::step),
+  /// left empty when the engine fails.
   StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full,
-                 bool continues = false) {
+                 bool continues = false, StepResult* into = nullptr) {
     StepResult r;
+    std::vector<Contact>* storage = into ? &into->contacts : nullptr;
     try {
       // Isolated: while this thread waits inside the step, it takes only the step's own tasks,
       // never an outer task of the host that might step this scene again.
-      r = in_arena([&] { return dop ? dop->step(method, kind, continues) : aabb->step(method, kind, continues); });
+      r = in_arena([&] {
+        return dop ? dop->step(method, kind, continues, storage) : aabb->step(method, kind, continues, storage);
+      });
     } catch (...) {
       // A failure inside the engine (out of memory): the front may be half built; forget it.
       if (dop) dop->invalidate_front();
       if (aabb) aabb->invalidate_front();
+      if (into) *into = StepResult{};
       throw;
     }
     r.stats.t_total = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -204,36 +215,55 @@ Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
-StepResult Scene::step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
-                       std::optional<Method> method) {
+StepResult Scene::Impl::full_step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                                   std::optional<Method> method, StepResult* into) {
   const auto t0 = Clock::now();
-  StepGuard guard(impl_->busy);
-  const Method m = Impl::checked(method, impl_->options.method);
-  impl_->check(start, "step start");
-  impl_->check(end, "step end");
-  const bool continues = impl_->load(start, impl_->start(), &impl_->last_end);
-  impl_->load(end, impl_->end());
-  StepResult r = impl_->run(m, t0, detail::StepKind::Full, continues);
-  std::swap(impl_->last_end.xyz(), impl_->end().xyz());  // end() is reloaded by every step
+  StepGuard guard(busy);
+  const Method m = checked(method, options.method);
+  check(start, "step start");
+  check(end, "step end");
+  const bool continues = load(start, this->start(), &last_end);
+  load(end, this->end());
+  StepResult r = run(m, t0, detail::StepKind::Full, continues, into);
+  std::swap(last_end.xyz(), this->end().xyz());  // end() is reloaded by every step
   return r;
 }
 
-StepResult Scene::advance(const std::vector<PositionsView>& next, std::optional<Method> method) {
+StepResult Scene::Impl::advance(const std::vector<PositionsView>& next, std::optional<Method> method,
+                                StepResult* into) {
   const auto t0 = Clock::now();
-  StepGuard guard(impl_->busy);
-  const Method m = Impl::checked(method, impl_->options.method);
-  impl_->check(next, "advance");
-  impl_->load(next, impl_->end());
-  std::swap(impl_->last_end.xyz(), impl_->start().xyz());
+  StepGuard guard(busy);
+  const Method m = checked(method, options.method);
+  check(next, "advance");
+  load(next, end());
+  std::swap(last_end.xyz(), start().xyz());
   StepResult r;
   try {
-    r = impl_->run(m, t0, detail::StepKind::Full, true);  // it starts where the last step ended
+    r = run(m, t0, detail::StepKind::Full, true, into);  // it starts where the last step ended
   } catch (...) {
-    std::swap(impl_->last_end.xyz(), impl_->start().xyz());  // the last end stays the last end
+    std::swap(last_end.xyz(), start().xyz());  // the last end stays the last end
     throw;
   }
-  std::swap(impl_->last_end.xyz(), impl_->end().xyz());
+  std::swap(last_end.xyz(), end().xyz());
   return r;
+}
+
+StepResult Scene::step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,
+                       std::optional<Method> method) {
+  return impl_->full_step(start, end, method, nullptr);
+}
+
+StepResult Scene::advance(const std::vector<PositionsView>& next, std::optional<Method> method) {
+  return impl_->advance(next, method, nullptr);
+}
+
+void Scene::step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end, StepResult& result,
+                 std::optional<Method> method) {
+  result = impl_->full_step(start, end, method, &result);
+}
+
+void Scene::advance(const std::vector<PositionsView>& next, StepResult& result, std::optional<Method> method) {
+  result = impl_->advance(next, method, &result);
 }
 
 StepResult Scene::Impl::query(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end,

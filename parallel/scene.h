@@ -43,12 +43,28 @@ class Scene {
   /// One step from the last end positions (initially the meshes' positions) to `next`.
   StepResult advance(const std::vector<PositionsView>& next, std::optional<Method> method = std::nullopt);
 
+  /// The same steps into `result`, whose contact list's storage is reused: a host that steps
+  /// every frame keeps one StepResult and saves the fresh memory of a new list each step (its
+  /// pages' first touch, a large part of joining a step's contacts). `result` is overwritten;
+  /// a refused step (the errors above) leaves it as it was, a failure inside the engine (out of
+  /// memory) leaves it empty.
+  void step(const std::vector<PositionsView>& start, const std::vector<PositionsView>& end, StepResult& result,
+            std::optional<Method> method = std::nullopt);
+  void advance(const std::vector<PositionsView>& next, StepResult& result, std::optional<Method> method = std::nullopt);
+
   /// Single-mesh conveniences.
   StepResult step(const PositionsView& start, const PositionsView& end, std::optional<Method> method = std::nullopt) {
     return step(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, method);
   }
   StepResult advance(const PositionsView& next, std::optional<Method> method = std::nullopt) {
     return advance(std::vector<PositionsView>{next}, method);
+  }
+  void step(const PositionsView& start, const PositionsView& end, StepResult& result,
+            std::optional<Method> method = std::nullopt) {
+    step(std::vector<PositionsView>{start}, std::vector<PositionsView>{end}, result, method);
+  }
+  void advance(const PositionsView& next, StepResult& result, std::optional<Method> method = std::nullopt) {
+    advance(std::vector<PositionsView>{next}, result, method);
   }
 
   /// Simulator queries on the step from `start` to `end` (IPC Toolkit users know them as

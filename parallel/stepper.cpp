@@ -101,7 +101,7 @@ Stepper<BV>::Stepper(const SceneTopology& scene, const SceneOptions& options, co
 }
 
 template <BoundingVolume BV>
-StepResult Stepper<BV>::step(Method method, StepKind kind, bool continues) {
+StepResult Stepper<BV>::step(Method method, StepKind kind, bool continues, std::vector<Contact>* storage) {
   MCCD_ASSERT(!running_, "a step of this stepper is already running");
   running_ = true;
   struct Done {
@@ -119,6 +119,8 @@ StepResult Stepper<BV>::step(Method method, StepKind kind, bool continues) {
   repeatable_ = false;  // until this step completes
   query_.reset(kind);
   result_ = StepResult{};
+  kept_storage_ = storage != nullptr;
+  if (storage) result_.contacts.swap(*storage);
   result_.stats.method = method;
   contacts_.clear();
   self_stats_ = {};
@@ -190,7 +192,7 @@ void Stepper<BV>::join() {
   StepStats& st = result_.stats;
   st.ws_branch = {st.ws_search.work + st.ws_self.work,
                   graph_run_ ? std::max(st.ws_search.span, st.ws_self.span) : st.ws_search.span + st.ws_self.span};
-  join_contacts(contacts_, join_scratch_, scene_, result_);
+  join_contacts(contacts_, join_scratch_, scene_, result_, true, kept_storage_);
   st.t_contacts = clock.seconds();
   st.ws_join = clock.work_span(st.t_contacts);
 }

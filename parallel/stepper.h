@@ -39,8 +39,10 @@ class Stepper {
   /// Runs one step from start() to end() with `method` in the calling thread's arena. A query
   /// (`kind` other than Full) reads the front but never changes it. `continues`: start() is
   /// bit for bit the end of the last full step (then what repeats that step may be skipped:
-  /// UnchangedLeaves).
-  StepResult step(Method method, StepKind kind = StepKind::Full, bool continues = false);
+  /// UnchangedLeaves). `storage` (nullptr: none): a contact list (a caller's kept result's)
+  /// whose storage the result's contacts take over: written over rather than allocated anew.
+  StepResult step(Method method, StepKind kind = StepKind::Full, bool continues = false,
+                  std::vector<Contact>* storage = nullptr);
 
   std::size_t bvh_depth() const { return bvh_.depth(); }
   std::size_t bvh_size() const { return bvh_.size(); }
@@ -86,6 +88,7 @@ class Stepper {
   bool repeatable_ = false;       ///< the last step was a full step that processed its leaf pairs
   bool graph_run_ = false;         ///< this step runs through the flow graph
   bool running_ = false;           ///< a step is under way (checked: never two at once)
+  bool kept_storage_ = false;      ///< the result's contacts reuse a caller's storage
   StepResult result_;
   StepStats self_stats_;  ///< the self stage's, added at the join (it runs beside the search)
   ContactBuffer contacts_;
