@@ -1,6 +1,7 @@
 #include <mccd/parallel/frame_pipeline.h>
 
 #include <oneapi/tbb/flow_graph.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <memory>
 #include <mutex>
@@ -55,6 +56,7 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
   std::mutex lists_mutex;
   std::vector<std::vector<Contact>> lists;
   std::size_t steps = 0;
+  const bool one_thread = tbb::this_task_arena::max_concurrency() == 1;
 
   flow::graph g;
   flow::input_node<FramePtr> reader(g, [&](tbb::flow_control& fc) -> FramePtr {
@@ -66,8 +68,16 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
     return f;
   });
   flow::limiter_node<FramePtr> gate(g, options.frames_in_flight);
+  // Written and recycled: the sink, then the list back for a later step.
+  auto write = [&](Stepped& s) {
+    sink(s.step);
+    const std::lock_guard<std::mutex> lock(lists_mutex);
+    lists.push_back(std::move(s.step.result.contacts));
+  };
   // Each sub-step goes to the writer as soon as it is stepped, so that writing it overlaps
-  // the next sub-step.
+  // the next sub-step. On one thread nothing overlaps (the writer would run only after the
+  // frame's last sub-step, and every sub-step's list would be a fresh one): the stepper writes
+  // each sub-step itself.
   using StepperNode = flow::multifunction_node<FramePtr, std::tuple<SteppedPtr>>;
   StepperNode stepper(g, flow::serial, [&](const FramePtr& f, StepperNode::output_ports_type& out) {
     const int k_max = options.substeps;
@@ -100,17 +110,18 @@ std::size_t run_frame_pipeline(Scene& scene, std::vector<Positions> first, const
       s->last = k == k_max;
       spare = std::move(prev);
       prev = std::move(end);
-      std::get<0>(out).try_put(s);
+      if (!one_thread) {
+        std::get<0>(out).try_put(s);
+      } else {
+        write(*s);
+        if (s->last) gate.decrementer().try_put(flow::continue_msg());
+      }
     }
     cur = f->positions;
   });
   using WriterNode = flow::multifunction_node<SteppedPtr, std::tuple<flow::continue_msg>>;
   WriterNode writer(g, flow::serial, [&](const SteppedPtr& s, WriterNode::output_ports_type& out) {
-    sink(s->step);
-    {
-      const std::lock_guard<std::mutex> lock(lists_mutex);
-      lists.push_back(std::move(s->step.result.contacts));
-    }
+    write(*s);
     if (s->last) std::get<0>(out).try_put(flow::continue_msg());
   });
 

@@ -6,6 +6,8 @@
 
 #include <stdexcept>
 
+#include <oneapi/tbb/task_arena.h>
+
 #include "fixtures/scenes.h"
 #include <mccd/geometry/error.h>
 
@@ -42,24 +44,58 @@ TEST(FramePipeline, SameResultsAsSteppingInOrder) {
           prev = end;
         }
     }
+    // in the caller's arena, and in arenas of one thread (the stepper writes each sub-step
+    // itself) and two (the writer node beside it)
+    for (int threads : {0, 1, 2}) {
+      Scene scene(s.meshes);
+      std::size_t next = 0, seen = 0, total = 0, steps = 0;
+      PipelineOptions po;
+      po.substeps = substeps;
+      po.frames_in_flight = 2;
+      auto run = [&] {
+        steps = run_frame_pipeline(
+            scene, s.frames[0], source_of(s, next),
+            [&](const PipelineStep& st) {
+              ASSERT_EQ(st.index, seen + 1);  // in order
+              ASSERT_LT(seen, expected.size());
+              EXPECT_EQ(st.result.contacts, expected[seen]) << "step " << st.index << ", arena " << threads;
+              total += st.result.contacts.size();
+              ++seen;
+            },
+            po);
+      };
+      if (threads == 0) {
+        run();
+      } else {
+        tbb::task_arena arena(threads);
+        arena.execute(run);
+      }
+      EXPECT_EQ(steps, expected.size());
+      EXPECT_EQ(seen, expected.size());
+      EXPECT_GT(total, 0u);
+    }
+  }
+}
+
+TEST(FramePipeline, ErrorInTheSinkStopsAndIsRethrownOnOneThread) {
+  const AnimatedScene s = make_deforming_spheres(2, 8, 9);
+  for (int threads : {1, 2}) {
     Scene scene(s.meshes);
-    std::size_t next = 0, seen = 0, total = 0;
+    std::size_t next = 0, seen = 0;
     PipelineOptions po;
-    po.substeps = substeps;
-    po.frames_in_flight = 2;
-    const std::size_t steps = run_frame_pipeline(
-        scene, s.frames[0], source_of(s, next),
-        [&](const PipelineStep& st) {
-          ASSERT_EQ(st.index, seen + 1);  // in order
-          ASSERT_LT(seen, expected.size());
-          EXPECT_EQ(st.result.contacts, expected[seen]) << "step " << st.index;
-          total += st.result.contacts.size();
-          ++seen;
-        },
-        po);
-    EXPECT_EQ(steps, expected.size());
-    EXPECT_EQ(seen, expected.size());
-    EXPECT_GT(total, 0u);
+    po.substeps = 2;
+    tbb::task_arena arena(threads);
+    EXPECT_THROW(arena.execute([&] {
+      run_frame_pipeline(
+          scene, s.frames[0], source_of(s, next),
+          [&](const PipelineStep& st) {
+            if (st.index == 4) throw Error("disk full");
+            ++seen;
+          },
+          po);
+    }),
+                 Error);
+    EXPECT_EQ(seen, 3u) << threads << " threads";
   }
 }
 
