@@ -73,20 +73,26 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
                    bool allow_packed, bool kept) {
   const std::size_t n = buffer.size();
   const bool large = n > kParallelJoin;
-  // The result's storage first: the contacts are converted into it as the sort finishes each
-  // part of the order, in the sort's own loop.
+  // The result's storage, made ready beside the counting of the order: the contacts are
+  // converted into it as the sort finishes each part of the order, in the sort's own loop.
   std::vector<Contact>& out = res.contacts;
-  if (!kept || out.capacity() < n) {
-    // A fresh array (it is the caller's); a large one's pages backed in parallel, 64 KiB at a
-    // time (one fault per page, serially, was most of the join's time on many threads).
-    out = std::vector<Contact>();
-    reserve_huge(out, kept ? n + n / 4 : n, /*populate=*/false);
-    auto* bytes = reinterpret_cast<unsigned char*>(out.data());
-    if (large)
-      dynamic_for(n * sizeof(Contact), std::size_t(1) << 16,
-                  [&](std::size_t b, std::size_t e) { populate_pages(bytes + b, e - b); });
-  }
-  out.resize(n);  // a kept list: only what lies past its old end is initialised
+  auto prepare = [&] {
+    if (!kept || out.capacity() < n) {
+      // A fresh array (it is the caller's); a large one's pages backed in parallel, 64 KiB at
+      // a time (one fault per page, serially, was most of the join's time on many threads),
+      // and each page then written once there: in a virtual machine whose host maps a page
+      // only at the first write from the process, the serial resize below took those faults.
+      out = std::vector<Contact>();
+      reserve_huge(out, kept ? n + n / 4 : n, /*populate=*/false);
+      auto* bytes = reinterpret_cast<unsigned char*>(out.data());
+      if (large)
+        dynamic_for(n * sizeof(Contact), std::size_t(1) << 16, [&](std::size_t b, std::size_t e) {
+          populate_pages(bytes + b, e - b);
+          for (std::size_t p = b; p < e; p += 4096) bytes[p] = 0;  // zero: what resize writes
+        });
+    }
+    out.resize(n);  // a kept list: only what lies past its old end is initialised
+  };
   Tally tally;
   // The contacts' positions in the canonical order (the keys are unique, so any sort gives it).
   const MeshTopology& topo = scene.topology();
@@ -101,8 +107,11 @@ void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const Scen
   const std::uint64_t pos_mask = (std::uint64_t(1) << position_bits(n)) - 1;
   auto packed_raw = [&](std::size_t i) -> const RawContact& { return buffer[scratch.order[i] & pos_mask]; };
   const bool packed =
-      allow_packed && packed_key_order(Keys{buffer.begin()}, n, id_bits, scratch.order, &scratch.counts,
-                                       [&](std::size_t b, std::size_t e) { convert(packed_raw, b, e, scene, out, tally); });
+      allow_packed &&
+      packed_key_order(
+          Keys{buffer.begin()}, n, id_bits, scratch.order, &scratch.counts,
+          [&](std::size_t b, std::size_t e) { convert(packed_raw, b, e, scene, out, tally); }, prepare);
+  if (!allow_packed) prepare();
   if (!packed) {
     scratch.raw.assign(buffer.begin(), buffer.end());
     auto before = [](const RawContact& x, const RawContact& y) { return x.key < y.key; };

@@ -45,14 +45,16 @@ inline void flush(WorkerOutput& out, ContactBuffer& buffer) {
 /// per-chunk bucket counts are kept from call to call (a local array when null).
 /// `sorted(begin, end)` (optional) is called on each run of `order` as soon as it is final
 /// (a group of buckets, inside the same parallel loop that sorted it): a caller that reads the
-/// order once saves a loop and finds the entries in cache.
-template <class KeyIterator, class Sorted>
+/// order once saves a loop and finds the entries in cache. `alongside()` (optional) runs once,
+/// beside the counting and scattering of a large order (before them for a small one), and
+/// always before the first `sorted()`: the caller's own preparation (the result's storage).
+template <class KeyIterator, class Sorted, class Alongside>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
-                      std::vector<std::uint32_t>* counts, const Sorted& sorted);
+                      std::vector<std::uint32_t>* counts, const Sorted& sorted, const Alongside& alongside);
 template <class KeyIterator>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
                       std::vector<std::uint32_t>* counts = nullptr) {
-  return packed_key_order(keys, n, id_bits, order, counts, [](std::size_t, std::size_t) {});
+  return packed_key_order(keys, n, id_bits, order, counts, [](std::size_t, std::size_t) {}, [] {});
 }
 /// Bits that hold a position below n.
 inline unsigned position_bits(std::size_t n) { return n > 1 ? static_cast<unsigned>(std::bit_width(n - 1)) : 1u; }
@@ -77,12 +79,15 @@ struct JoinScratch {
 void join_contacts(const ContactBuffer& buffer, JoinScratch& scratch, const SceneTopology& scene, StepResult& result,
                    bool allow_packed = true, bool kept = false);
 
-template <class KeyIterator, class Sorted>
+template <class KeyIterator, class Sorted, class Alongside>
 bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVector<std::uint64_t>& order,
-                      std::vector<std::uint32_t>* counts, const Sorted& sorted) {
+                      std::vector<std::uint32_t>* counts, const Sorted& sorted, const Alongside& alongside) {
   order.clear();
   const unsigned pos_bits = position_bits(n), key_bits = 1 + 2 * id_bits, bits = key_bits + pos_bits;
-  if (bits > 64) return false;
+  if (bits > 64) {
+    alongside();
+    return false;
+  }
   // Compact key: kind, a, b (RawContact::make_key's fields, each in id_bits), then the position.
   const std::uint64_t id_mask = (std::uint64_t(1) << id_bits) - 1;
   auto packed = [&](std::uint64_t k, std::size_t i) {
@@ -122,31 +127,39 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
       order[next[v >> shift]++] = v;
     }
   };
-  // Grown with a quarter to spare (a growing step after step would otherwise get fresh memory,
-  // pages touched anew, every step), then left uninitialised: every entry is written below.
-  if (order.capacity() < n) {
-    order = LargeVector<std::uint64_t>();
-    order.reserve(n + n / 4);
-  }
-  order.resize(n);
-  if (nc > 1)
-    for_each_index(nc, count, tbb::simple_partitioner());
-  else
-    count(0);
-  std::uint32_t at = 0;
-  for (std::size_t b = 0; b < nb; ++b) {
-    start[b] = at;
-    for (std::size_t c = 0; c < nc; ++c) {
-      const std::uint32_t m = slot[c * row + b];
-      slot[c * row + b] = at;
-      at += m;
+  auto place = [&] {
+    // Grown with a quarter to spare (a growing step after step would otherwise get fresh
+    // memory, pages touched anew, every step), then left uninitialised: every entry is written.
+    if (order.capacity() < n) {
+      order = LargeVector<std::uint64_t>();
+      order.reserve(n + n / 4);
     }
+    order.resize(n);
+    if (nc > 1)
+      for_each_index(nc, count, tbb::simple_partitioner());
+    else
+      count(0);
+    std::uint32_t at = 0;
+    for (std::size_t b = 0; b < nb; ++b) {
+      start[b] = at;
+      for (std::size_t c = 0; c < nc; ++c) {
+        const std::uint32_t m = slot[c * row + b];
+        slot[c * row + b] = at;
+        at += m;
+      }
+    }
+    start[nb] = at;
+    if (nc > 1)
+      for_each_index(nc, scatter, tbb::simple_partitioner());
+    else
+      scatter(0);
+  };
+  if (n > kParallelJoin) {
+    invoke_pair(place, alongside);
+  } else {
+    alongside();
+    place();
   }
-  start[nb] = at;
-  if (nc > 1)
-    for_each_index(nc, scatter, tbb::simple_partitioner());
-  else
-    scatter(0);
   // Contacts crowded into a few buckets (all in a small range of ids) would leave one thread
   // sorting most of them: a large bucket is sorted in parallel itself.
   auto sort_buckets = [&](std::size_t b0, std::size_t b1) {
