@@ -328,54 +328,92 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   const LaneKernels& lanes = lane_kernels();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
-  // Closed surfaces first (each certified whole covers every node below it), in parallel.
-  ex.dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t k = b; k != e; ++k) {
-      // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
-      // surface that is not star-shaped from its mean costs a pass over its triangles for
-      // nothing. A success starts over.
-      Backoff& o = closed_backoff_[k];
-      closed_ok_[k] = 0;
-      if (o.skip) {
-        --o.skip;
-        continue;
+  // Closed surfaces (each certified whole covers every node below it), in parallel, beside
+  // the signs of the leaves under no closed surface; then the leaves under a closed surface
+  // not certified this step. The leaves under a certified one need none (never read).
+  auto certify_closed_all = [&] {
+    ex.dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k != e; ++k) {
+        // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
+        // surface that is not star-shaped from its mean costs a pass over its triangles for
+        // nothing. A success starts over.
+        Backoff& o = closed_backoff_[k];
+        closed_ok_[k] = 0;
+        if (o.skip) {
+          --o.skip;
+          continue;
+        }
+        closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets);
+        o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
+        o.skip = (1 << o.failures) - 1;
       }
-      closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets);
-      o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
-      o.skip = (1 << o.failures) - 1;
-    }
-  });
-  auto under_certified_closed = [&](std::uint32_t node) {
-    return closed_above_[node] != kNone && closed_ok_[closed_above_[node]];
+    });
   };
-  // The signs each needed leaf's faces share, in parallel over the nodes (a leaf writes its
-  // own); then every inner node's, the signs both children share.
-  ex.dynamic_for(n, 256, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i != e; ++i) {
-      const std::uint32_t node = static_cast<std::uint32_t>(i);
-      if (!bvh.leaf(node) || !signed_[node]) continue;
-      if (under_certified_closed(node)) {
-        signs_[node] = 0;  // covered whole; never read this step
-        continue;
+  // The signs each needed leaf's faces share (a leaf writes its own).
+  auto leaf_signs = [&](std::uint32_t node) {
+    // The leaf's triangles in vector lanes (LaneKernels::normal_signs: normal_signs' values
+    // bit for bit), every axis: the signs they all share are the same as axis by axis.
+    const std::uint32_t* ids = bvh.leaf_triangles(node);
+    const std::uint32_t count = bvh.leaf_count(node);
+    std::uint32_t corners[BvhTopology::kMaxLeaf][3];
+    std::uint8_t bits[BvhTopology::kMaxLeaf];
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const Triangle& t = faces[ids[k]];
+      corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
+    }
+    normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, bits);
+    unsigned s = 0x3F;
+    for (std::uint32_t k = 0; k < count; ++k) s &= bits[k];
+    signs_[node] = static_cast<std::uint8_t>(s);
+  };
+  // under_closed(node): whether `node` lies under a closed surface (with `certified`: one
+  // certified this step).
+  auto signs_of_leaves = [&](bool under_closed) {
+    ex.dynamic_for(n, 256, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i != e; ++i) {
+        const std::uint32_t node = static_cast<std::uint32_t>(i);
+        if (!bvh.leaf(node) || !signed_[node] || (closed_above_[node] != kNone) != under_closed) continue;
+        if (under_closed && closed_ok_[closed_above_[node]]) {
+          signs_[node] = 0;  // covered whole; never read this step
+          continue;
+        }
+        leaf_signs(node);
       }
-      // The leaf's triangles in vector lanes (LaneKernels::normal_signs: normal_signs' values
-      // bit for bit), every axis: the signs they all share are the same as axis by axis.
-      const std::uint32_t* ids = bvh.leaf_triangles(node);
-      const std::uint32_t count = bvh.leaf_count(node);
-      std::uint32_t corners[BvhTopology::kMaxLeaf][3];
-      std::uint8_t bits[BvhTopology::kMaxLeaf];
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const Triangle& t = faces[ids[k]];
-        corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
+    });
+  };
+  if (closed_.empty()) {
+    signs_of_leaves(false);
+  } else {
+    ex.invoke(certify_closed_all, [&] { signs_of_leaves(false); });
+    signs_of_leaves(true);
+  }
+  // Every inner node's signs, those both children share: the tree's subtrees bottom-up in
+  // parallel (a subtree's nodes lie together, each child after its parent), then the nodes
+  // above them, deepest first. The cut is made once: the tree never changes shape.
+  if (sign_roots_.empty() && n != 0) {
+    const std::uint32_t limit = std::max<std::uint32_t>(256, n / 64);
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+      const std::uint32_t i = stack.back();
+      stack.pop_back();
+      if (bvh.leaf(i) || bvh.subtree_size(i) <= limit) {
+        sign_roots_.push_back(i);
+      } else {
+        sign_top_.push_back(i);
+        stack.push_back(bvh.left(i));
+        stack.push_back(bvh.right(i));
       }
-      normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, bits);
-      unsigned s = 0x3F;
-      for (std::uint32_t k = 0; k < count; ++k) s &= bits[k];
-      signs_[node] = static_cast<std::uint8_t>(s);
+    }
+    std::sort(sign_top_.begin(), sign_top_.end(), std::greater<>());  // children (larger ids) first
+  }
+  ex.dynamic_for(sign_roots_.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k != e; ++k) {
+      const std::uint32_t r = sign_roots_[k];
+      for (std::uint32_t i = r + bvh.subtree_size(r); i-- > r;)
+        if (!bvh.leaf(i)) signs_[i] = signs_[bvh.left(i)] & signs_[bvh.right(i)];
     }
   });
-  for (std::uint32_t i = n; i-- > 0;)
-    if (!bvh.leaf(i)) signs_[i] = signs_[bvh.left(i)] & signs_[bvh.right(i)];
+  for (std::uint32_t i : sign_top_) signs_[i] = signs_[bvh.left(i)] & signs_[bvh.right(i)];
   // Top-down: the first node on each path whose faces share a sign along an axis and whose
   // contour passes along that axis covers its subtree. The subtrees of the tree's top in
   // parallel: each writes only its own nodes, and the counts add up the same either way.

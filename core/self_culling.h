@@ -152,6 +152,8 @@ class SelfCulling {
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)
+  std::vector<std::uint32_t> sign_roots_;  ///< subtrees whose inner signs are combined in parallel
+  std::vector<std::uint32_t> sign_top_;    ///< the nodes above them, descending
   std::uint64_t certified_ = 0;
   bool active_ = false;
 };
