@@ -366,8 +366,8 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     for (std::uint32_t k = 0; k < count; ++k) s &= bits[k];
     signs_[node] = static_cast<std::uint8_t>(s);
   };
-  // under_closed(node): whether `node` lies under a closed surface (with `certified`: one
-  // certified this step).
+  // The needed leaves' signs: of the leaves under a closed surface (`under_closed`; under one
+  // certified this step none is needed) or of those under none.
   auto signs_of_leaves = [&](bool under_closed) {
     ex.dynamic_for(n, 256, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i != e; ++i) {
@@ -390,9 +390,13 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   // Every inner node's signs, those both children share: the tree's subtrees bottom-up in
   // parallel (a subtree's nodes lie together, each child after its parent), then the nodes
   // above them, deepest first. The cut is made once: the tree never changes shape.
-  if (sign_roots_.empty() && n != 0) {
+  if (sign_cut_nodes_ != n) {
+    sign_roots_.clear();
+    sign_top_.clear();
+    sign_cut_nodes_ = n;
     const std::uint32_t limit = std::max<std::uint32_t>(256, n / 64);
-    std::vector<std::uint32_t> stack{0};
+    std::vector<std::uint32_t> stack;
+    if (n != 0) stack.push_back(0);
     while (!stack.empty()) {
       const std::uint32_t i = stack.back();
       stack.pop_back();

@@ -154,6 +154,7 @@ class SelfCulling {
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)
   std::vector<std::uint32_t> sign_roots_;  ///< subtrees whose inner signs are combined in parallel
   std::vector<std::uint32_t> sign_top_;    ///< the nodes above them, descending
+  std::uint32_t sign_cut_nodes_ = 0;       ///< the tree's size when they were found (0: not yet)
   std::uint64_t certified_ = 0;
   bool active_ = false;
 };
