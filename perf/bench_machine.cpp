@@ -17,17 +17,13 @@
 #include <CLI/CLI.hpp>
 
 #include "harness/cli.h"
+#include "harness/summary.h"
 
 using namespace mccd::bench;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 /// Compute-bound work: 8 independent chains x = x c + d, `n` rounds (16 n floating-point
 /// operations). The result is returned so that nothing is optimised away.

@@ -10,6 +10,7 @@ namespace mccd::bench {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
@@ -17,6 +18,8 @@ double median(std::vector<double> v) {
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
+
+namespace {
 
 const VariantSummary* find(const std::vector<VariantSummary>& vs, const std::string& scene, Method m, int threads,
                            const std::string& config = "default") {

@@ -38,6 +38,9 @@ struct VariantSummary {
   RunRecord counts;                             ///< the warm-up run (counts do not vary)
 };
 
+/// The median of `v` (the mean of the middle two for an even count; NaN when empty).
+double median(std::vector<double> v);
+
 /// Amdahl fit (see the file comment) to (threads, time) points; the point with 1 thread is the
 /// base. Returns NaN when there is no point with 1 thread or none with more.
 double serial_fraction(const std::vector<std::pair<int, double>>& points);
