@@ -57,6 +57,32 @@ std::string FrameNames::key(std::size_t frames) const {
   return out;
 }
 
+std::size_t StepAccumulator::merge_runs() {
+  scratch_.resize(keys_.size());
+  // Pairs of neighbouring runs merged from keys_ into scratch_, a pair found in both kept once,
+  // round after round until one run is left.
+  while (runs_.size() > 2) {
+    std::vector<std::size_t> next{0};
+    PairKey* out = scratch_.data();
+    for (std::size_t j = 0; j + 1 < runs_.size(); j += 2) {
+      const PairKey *a = keys_.data() + runs_[j], *ae = keys_.data() + runs_[j + 1];
+      const PairKey *b = ae, *be = j + 2 < runs_.size() ? keys_.data() + runs_[j + 2] : ae;
+      while (a != ae && b != be) {
+        const bool take_b = *b < *a;
+        const bool both = !take_b && !(*a < *b);
+        *out++ = take_b ? *b : *a;
+        a += !take_b;
+        b += take_b | both;
+      }
+      out = std::copy(b, be, std::copy(a, ae, out));
+      next.push_back(std::size_t(out - scratch_.data()));
+    }
+    keys_.swap(scratch_);
+    runs_.swap(next);
+  }
+  return runs_.back();
+}
+
 StepAccumulator::PairKey StepAccumulator::key(const Contact& c) {
   // (kind, mesh_a, a) then (mesh_b, b): ordered as the contacts' canonical order
   return {std::uint64_t(c.kind == ContactKind::EdgeEdge) << 63 | std::uint64_t(c.mesh_a) << 32 | c.a,
@@ -68,7 +94,8 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     row_ = StepRow{};
     row_.step = step;
     row_.stats.method = r.stats.method;
-    pairs_.clear();
+    keys_.clear();
+    runs_.assign(1, 0);
   }
   row_.stats += r.stats;
   row_.stats.front_size = r.stats.front_size;
@@ -80,22 +107,29 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     row_.ee = r.stats.ee_contacts;
     return true;
   }
-  // Each sub-step's contacts come sorted (the canonical order), and so do their keys: merged
-  // in linear time, each pair kept once.
-  // Arrays of megabytes, grown from sub-step to sub-step: where one is new, its pages are
-  // backed in one call (reserve_backed) instead of faulted in.
-  keys_.clear();
-  mccd::detail::reserve_backed(keys_, r.contacts.size());
-  for (const Contact& c : r.contacts) keys_.push_back(key(c));
-  merged_.clear();
-  mccd::detail::reserve_backed(merged_, pairs_.size() + keys_.size());
-  std::merge(pairs_.begin(), pairs_.end(), keys_.begin(), keys_.end(), std::back_inserter(merged_));
-  merged_.erase(std::unique(merged_.begin(), merged_.end()), merged_.end());
-  pairs_.swap(merged_);
+  // Each sub-step's contacts come sorted (the canonical order), and so do their keys: kept as
+  // one run per sub-step and merged once, after the last (log2 K passes over the step's pairs,
+  // instead of a pass over all the pairs so far at every sub-step).
+  const std::size_t at = keys_.size(), need = at + r.contacts.size();
+  if (need > keys_.capacity()) {
+    // Room for the step's other sub-steps at this one's rate, in one array (of megabytes: in
+    // huge pages where the system gives them, LargeAllocator).
+    mccd::detail::LargeVector<PairKey> grown;
+    const std::size_t rest = std::size_t(substeps_) - substep - 1;
+    grown.reserve(std::max(need + rest * r.contacts.size(), 2 * keys_.capacity()));
+    grown.assign(keys_.begin(), keys_.end());
+    keys_.swap(grown);
+  }
+  keys_.resize(need);
+  std::transform(r.contacts.begin(), r.contacts.end(), keys_.begin() + std::ptrdiff_t(at), key);
+  runs_.push_back(keys_.size());
   if (int(substep) + 1 < substeps_) return false;
+  const std::size_t n = merge_runs();
   // vertex-face pairs first (ContactKind order)
-  row_.vf = std::size_t(std::count_if(pairs_.begin(), pairs_.end(), [](const PairKey& k) { return k.first >> 63 == 0; }));
-  row_.ee = pairs_.size() - row_.vf;
+  const auto ee = std::partition_point(keys_.begin(), keys_.begin() + std::ptrdiff_t(n),
+                                       [](const PairKey& k) { return k.first >> 63 == 0; });
+  row_.vf = std::size_t(ee - keys_.begin());
+  row_.ee = n - row_.vf;
   return true;
 }
 

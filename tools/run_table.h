@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <mccd/core/contact.h>
+#include <mccd/geometry/large_allocator.h>
 
 #include "time_text.h"
 
@@ -38,8 +39,12 @@ class StepAccumulator {
   /// A contact's pair as two words, ordered as the contacts (mesh ids below 2^31).
   using PairKey = std::pair<std::uint64_t, std::uint64_t>;
   static PairKey key(const Contact& c);
-  std::vector<PairKey> pairs_;  // the step's pairs so far, sorted, each once
-  std::vector<PairKey> merged_, keys_;
+  /// The pairs of the step's sub-steps so far, one sorted run per sub-step (run j in
+  /// [runs_[j], runs_[j + 1])); merged only after the last, each pair kept once.
+  mccd::detail::LargeVector<PairKey> keys_, scratch_;
+  std::vector<std::size_t> runs_;
+  /// Merges the runs into one, sorted, each pair once; returns its length.
+  std::size_t merge_runs();
 };
 
 /// How the summary names frames and steps: by the files the frames came from (their names
