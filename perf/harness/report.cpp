@@ -35,6 +35,12 @@ std::string percent_fewer(double before, double after) {
   return before > 0 && std::isfinite(after) ? num(100 * (1 - after / before), 1) + "%" : "n/a";
 }
 
+// "9.81x [9.52-10.3]": a paired speedup, its least and its most
+std::string paired_text(double median, double least, double most) {
+  if (!std::isfinite(median)) return "n/a";
+  return num(median) + "x [" + num(least) + "-" + num(most) + "]";
+}
+
 std::string first_line_of(const std::string& path, const std::string& key) {
   std::ifstream in(path);
   for (std::string line; std::getline(in, line);)
@@ -113,17 +119,20 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
     o << "| " << s.scene << " | " << s.triangles << " | " << s.steps << " | " << s.intervals << " | " << s.description << " |\n";
 
   o << "\n## Summary\n\nMethod " << (scenes.empty() ? "fbd" : to_string(scenes.front().method))
-    << "; speedup = ms at 1 thread / ms at the most threads swept; the model is Amdahl's law with the serial\n"
-       "fraction s fitted to the measured thread counts (formula below).\n\n"
-       "| scene | ms/frame, 1 thread | ms/frame, most threads | speedup | serial fraction | model, 16 threads | "
+    << "; speedup = ms at 1 thread / ms at the most threads swept (medians); paired = the same run by run, each\n"
+       "timed run over the 1-thread run of its round (median [min-max]), which a machine whose speed moves between\n"
+       "rounds moves less; the model is Amdahl's law with the serial fraction s fitted to the measured thread counts\n"
+       "(formula below).\n\n"
+       "| scene | ms/frame, 1 thread | ms/frame, most threads | speedup | paired | serial fraction | model, 16 threads | "
        "volume tests/step: traverse -> fbd | fewer | paper's setting: fewer | paper's setting, front at rebuild: "
        "without -> with orphan set | shorter | elementary tests per contact | front memory |\n"
-       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const SceneSummary& s : scenes) {
     if (s.ms.empty()) continue;
     const double without = s.front_nodes + s.front_adjacent;
     o << "| " << s.scene << " | " << num(s.ms.front()) << " | " << num(s.ms.back()) << " (" << s.threads.back()
-      << ") | " << num(s.ms.front() / s.ms.back()) << "x | " << num(s.serial[kStep], 3) << " | "
+      << ") | " << num(s.ms.front() / s.ms.back()) << "x | " << paired_text(s.paired.back(), s.paired_min.back(),
+      s.paired_max.back()) << " | " << num(s.serial[kStep], 3) << " | "
       << num(s.amdahl16[kStep], 1) << "x | " << count(s.volume_tests_traverse) << " -> " << count(s.volume_tests_method)
       << " | " << percent_fewer(s.volume_tests_traverse, s.volume_tests_method) << " | "
       << percent_fewer(s.paper_volume_traverse, s.paper_volume_fbd) << " (" << count(s.paper_volume_traverse) << " -> "
@@ -134,8 +143,8 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   }
 
   o << "\n## Every variant\n\n| scene | method | threads | ms/frame: median [min-max] | speedup over its 1 thread | "
-       "over traverse, 1 thread | fbd/phc time | volume tests/step | elementary tests/step | contacts/step |\n"
-       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+       "paired by round | over traverse, 1 thread | fbd/phc time | volume tests/step | elementary tests/step | "
+       "contacts/step |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const VariantSummary& v : variants) {
     if (v.config != "default") continue;
     double one = NAN, trav = NAN, phc = NAN, fbd = NAN;
@@ -149,6 +158,7 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
     const double steps = std::max(1, v.counts.steps);
     o << "| " << v.scene << " | " << to_string(v.method) << " | " << v.threads << " | " << num(v.median_ms[kStep]) << " ["
       << num(v.min_ms) << "-" << num(v.max_ms) << "] | " << num(one / v.median_ms[kStep]) << "x | "
+      << paired_text(v.paired_speedup, v.paired_min, v.paired_max) << " | "
       << num(trav / v.median_ms[kStep]) << "x | " << (v.method == Method::Fbd ? num(fbd / phc, 3) : "") << " | "
       << count(v.counts.sum.volume_tests / steps) << " | "
       << count((v.counts.sum.vf_tests + v.counts.sum.ee_tests) / steps) << " | " << count(v.counts.contacts / steps)

@@ -86,6 +86,16 @@ std::vector<VariantSummary> summarize(const std::vector<RunRecord>& runs) {
   for (VariantSummary& v : out) {
     const auto& rs = timed[std::make_tuple(v.scene, v.config, int(v.method), v.threads)];
     v.runs = int(rs.size());
+    // each timed run over the 1-thread run of its round
+    std::vector<double> paired;
+    const auto one = timed.find(std::make_tuple(v.scene, v.config, int(v.method), 1));
+    if (one != timed.end())
+      for (const RunRecord* r : rs)
+        for (const RunRecord* o : one->second)
+          if (o->run == r->run && r->wall_ms > 0) paired.push_back(o->wall_ms / r->wall_ms);
+    v.paired_speedup = median(paired);
+    v.paired_min = paired.empty() ? kNaN : *std::min_element(paired.begin(), paired.end());
+    v.paired_max = paired.empty() ? kNaN : *std::max_element(paired.begin(), paired.end());
     for (int s = 0; s < kStageCount; ++s) {
       std::vector<double> ms;
       for (const RunRecord* r : rs) ms.push_back(stage_ms(*r, s));
@@ -111,7 +121,11 @@ SceneSummary summarize_scene(const Workload& w, const std::vector<VariantSummary
   for (const VariantSummary* v : mine)
     if (v->method == Method::Fbd) s.method = Method::Fbd;
   for (const VariantSummary* v : mine)
-    if (v->method == s.method) s.threads.push_back(v->threads), s.ms.push_back(v->median_ms[kStep]);
+    if (v->method == s.method) {
+      s.threads.push_back(v->threads), s.ms.push_back(v->median_ms[kStep]);
+      s.paired.push_back(v->paired_speedup), s.paired_min.push_back(v->paired_min);
+      s.paired_max.push_back(v->paired_max);
+    }
   for (int st = 0; st < kStageCount; ++st) {
     std::vector<std::pair<int, double>> points;
     for (const VariantSummary* v : mine)

@@ -35,6 +35,11 @@ struct VariantSummary {
   int threads = 1, runs = 0;
   std::array<double, kStageCount> median_ms{}; ///< per frame interval, median over timed runs
   double min_ms = 0, max_ms = 0;                ///< spread of the whole step over timed runs
+  /// The speedup over 1 thread paired by round: for each timed run k, the 1-thread run k of
+  /// the same scene, configuration and method over this one (run k of every thread count is
+  /// taken in one round, minutes apart at most: a machine whose speed moves between rounds
+  /// moves both). Median, least and most; NaN without 1-thread runs to pair (and 1 at 1 thread).
+  double paired_speedup = 0, paired_min = 0, paired_max = 0;
   RunRecord counts;                             ///< the warm-up run (counts do not vary)
 };
 
@@ -68,6 +73,8 @@ struct SceneSummary {
   Method method = Method::Fbd;
   std::vector<int> threads;                 ///< thread counts swept
   std::vector<double> ms;                   ///< median ms per frame at each of them
+  /// the speedup over 1 thread paired by round (VariantSummary) at each of them: median, least, most
+  std::vector<double> paired, paired_min, paired_max;
   std::array<double, kStageCount> serial{}; ///< serial fraction of each stage
   std::array<double, kStageCount> amdahl16{};
   double volume_tests_traverse = 0, volume_tests_method = 0;  ///< per step; NaN when not swept

@@ -68,6 +68,13 @@ TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
   EXPECT_NEAR(fbd1.min_ms, 9.0, 1e-9);
   EXPECT_NEAR(fbd1.max_ms, 11.0, 1e-9);
   EXPECT_NEAR(fbd1.median_ms[kUpdate], 2.5, 1e-9);
+  // paired by round: run k on 2 threads against run k on 1 (both 1.6x apart in every round)
+  EXPECT_NEAR(fbd1.paired_speedup, 1.0, 1e-12);
+  const VariantSummary& fbd2 = v[5];
+  ASSERT_EQ(fbd2.threads, 2);
+  EXPECT_NEAR(fbd2.paired_speedup, 1.6, 1e-9);
+  EXPECT_NEAR(fbd2.paired_min, 1.6, 1e-9);
+  EXPECT_NEAR(fbd2.paired_max, 1.6, 1e-9);
 
   Workload w;
   w.name = "s";
@@ -88,6 +95,32 @@ TEST(HarnessSummary, MediansSpreadsAndSceneFigures) {
   EXPECT_NEAR(s.front_mb, 3.0, 1e-12);
   EXPECT_NEAR(s.elementary_tests / s.contacts, 20.0, 1e-9);
   EXPECT_NEAR(s.phc_ms_1, 20.0, 1e-9);
+  ASSERT_EQ(s.paired.size(), 2u);
+  EXPECT_NEAR(s.paired[1], 1.6, 1e-9);
+}
+
+TEST(HarnessSummary, PairedSpeedupTakesEachRoundOnItsOwn) {
+  // The machine slows down by half from the 4-thread run of round 2 to the 1-thread run of
+  // round 3: the medians' ratio reads 150 / 26 = 5.8x, each round on its own 4x (but round 2).
+  std::vector<RunRecord> runs;
+  const double one[] = {100, 200, 200, 100}, four[] = {25, 30, 50, 25};
+  for (int k = 1; k <= 4; ++k) {
+    runs.push_back(run("s", Method::Fbd, 1, k, one[k - 1]));
+    runs.push_back(run("s", Method::Fbd, 4, k, four[k - 1]));
+  }
+  runs.push_back(run("s", Method::Fbd, 4, 5, 26));  // a round with no 1-thread run pairs with nothing
+  const std::vector<VariantSummary> v = summarize(runs);
+  ASSERT_EQ(v.size(), 2u);
+  const VariantSummary& four_threads = v[1];
+  EXPECT_EQ(four_threads.runs, 5);
+  EXPECT_NEAR(v[0].median_ms[kStep] / four_threads.median_ms[kStep], 150.0 / 26, 1e-9);
+  EXPECT_NEAR(four_threads.paired_speedup, 4.0, 1e-9);  // of 4, 6.67, 4, 4
+  EXPECT_NEAR(four_threads.paired_min, 4.0, 1e-9);
+  EXPECT_NEAR(four_threads.paired_max, 200.0 / 30, 1e-9);
+  EXPECT_NEAR(v[0].paired_speedup, 1.0, 1e-12);
+  // a variant with no 1-thread runs at all
+  std::vector<RunRecord> alone{run("t", Method::Fbd, 2, 1, 10)};
+  EXPECT_TRUE(std::isnan(summarize(alone)[0].paired_speedup));
 }
 
 TEST(HarnessSummary, SearchAndSelfIsTheirSharedPartOfTheStep) {
