@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #include <mccd/geometry/error.h>
@@ -94,6 +95,7 @@ struct DOps {
   static V sqrt(V a) { return std::sqrt(a); }
   static V copysign(V a, V b) { return std::copysign(a, b); }
 };
+constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_scalar
 
@@ -156,6 +158,7 @@ struct DOps {
     return _mm_or_pd(_mm_andnot_pd(sign, a), _mm_and_pd(sign, b));
   }
 };
+constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_sse2
 
@@ -221,6 +224,7 @@ struct DOps {
     return _mm256_or_pd(_mm256_andnot_pd(sign, a), _mm256_and_pd(sign, b));
   }
 };
+constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
 #if defined(__clang__)
@@ -307,6 +311,90 @@ struct DOps {
                                                _mm512_and_si512(sign, _mm512_castpd_si512(b))));
   }
 };
+/// LaneKernels::vertex_quarters: eight vertices at a time, SweptVolumes::vertex_volumes's
+/// operations on each (its SSE2 path: two slabs a register there, a vertex a lane here).
+void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
+                     double min_distance, std::uint64_t skip, float* out) {
+  const __m512d quarter = _mm512_set1_pd(0.25), half = _mm512_set1_pd(0.5), three = _mm512_set1_pd(0.75);
+  const __m512d scale = _mm512_set1_pd(0x1p-48), distance = _mm512_set1_pd(min_distance);
+  const __m256 big = _mm256_set1_ps(std::numeric_limits<float>::max()), ulp = _mm256_set1_ps(0x1p-23f);
+  const __m256 tiny = _mm256_set1_ps(std::numeric_limits<float>::min()), sign = _mm256_set1_ps(-0.0f);
+  // kdop.h's floats_down / floats_up, eight floats at a time
+  auto down = [&](__m256 f) {
+    f = _mm256_min_ps(f, big);
+    return _mm256_sub_ps(f, _mm256_add_ps(_mm256_mul_ps(_mm256_andnot_ps(sign, f), ulp), tiny));
+  };
+  auto up = [&](__m256 f) { return _mm256_xor_ps(down(_mm256_xor_ps(f, sign)), sign); };
+  auto abs = [](__m512d v) { return DOps::abs(v); };
+  for (std::size_t g = 0; g < n; g += 8) {
+    const unsigned m = n - g >= 8 ? 8u : static_cast<unsigned>(n - g);
+    alignas(32) std::uint32_t at[8];
+    for (unsigned i = 0; i < 8; ++i) at[i] = 3 * vertex_of_slot[g + (i < m ? i : 0)];
+    const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(at));
+    const __m512d ax = _mm512_i32gather_pd(idx, x0, 8), ay = _mm512_i32gather_pd(idx, x0 + 1, 8);
+    const __m512d az = _mm512_i32gather_pd(idx, x0 + 2, 8), bx = _mm512_i32gather_pd(idx, x1, 8);
+    const __m512d by = _mm512_i32gather_pd(idx, x1 + 1, 8), bz = _mm512_i32gather_pd(idx, x1 + 2, 8);
+    const __m512d pa[9] = {ax,
+                           ay,
+                           az,
+                           _mm512_add_pd(ax, ay),
+                           _mm512_sub_pd(ax, ay),
+                           _mm512_add_pd(ax, az),
+                           _mm512_sub_pd(ax, az),
+                           _mm512_add_pd(ay, az),
+                           _mm512_sub_pd(ay, az)};
+    const __m512d pb[9] = {bx,
+                           by,
+                           bz,
+                           _mm512_add_pd(bx, by),
+                           _mm512_sub_pd(bx, by),
+                           _mm512_add_pd(bx, bz),
+                           _mm512_sub_pd(bx, bz),
+                           _mm512_add_pd(by, bz),
+                           _mm512_sub_pd(by, bz)};
+    // the largest coordinate (a maximum: exact in any order) times 2^-48, plus the distance
+    const __m512d largest = _mm512_max_pd(_mm512_max_pd(_mm512_max_pd(abs(ax), abs(ay)), abs(az)),
+                                          _mm512_max_pd(_mm512_max_pd(abs(bx), abs(by)), abs(bz)));
+    const __m512d margin = _mm512_add_pd(_mm512_mul_pd(largest, scale), distance);
+    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
+    for (int s = 0; s < 9; ++s) {
+      const __m512d p0 = pa[s], p4 = pb[s], d = _mm512_sub_pd(p4, p0);
+      const __m512d p1 = _mm512_add_pd(p0, _mm512_mul_pd(quarter, d));
+      const __m512d p2 = _mm512_add_pd(p0, _mm512_mul_pd(half, d));
+      const __m512d p3 = _mm512_add_pd(p0, _mm512_mul_pd(three, d));
+      const __m256 lo[4] = {down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p0, p1), margin))),
+                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p1, p2), margin))),
+                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p2, p3), margin))),
+                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p3, p4), margin)))};
+      const __m256 hi[4] = {up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p0, p1), margin))),
+                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p1, p2), margin))),
+                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p2, p3), margin))),
+                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p3, p4), margin)))};
+      // quarters 0-3 of each vertex side by side: a 4 x 8 transpose, vertex i in the low half
+      // of register i (i < 4) or the high half of register i - 4
+      __m256 tl[4], th[4];
+      auto transpose = [](const __m256* q, __m256* t) {
+        const __m256 a = _mm256_unpacklo_ps(q[0], q[1]), b = _mm256_unpackhi_ps(q[0], q[1]);
+        const __m256 c = _mm256_unpacklo_ps(q[2], q[3]), e = _mm256_unpackhi_ps(q[2], q[3]);
+        t[0] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0));
+        t[1] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2));
+        t[2] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(1, 0, 1, 0));
+        t[3] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(3, 2, 3, 2));
+      };
+      transpose(lo, tl);
+      transpose(hi, th);
+      for (unsigned i = 0; i < m; ++i) {
+        if (!(stored >> i & 1u)) continue;
+        float* q = out + 72 * (g + i) + 8 * s;
+        const __m128 l = i < 4 ? _mm256_castps256_ps128(tl[i]) : _mm256_extractf128_ps(tl[i - 4], 1);
+        const __m128 h = i < 4 ? _mm256_castps256_ps128(th[i]) : _mm256_extractf128_ps(th[i - 4], 1);
+        _mm_store_ps(q, l);
+        _mm_store_ps(q + 4, h);
+      }
+    }
+  }
+}
+constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx512
 #if defined(__clang__)

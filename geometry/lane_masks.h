@@ -113,6 +113,14 @@ struct LaneKernels {
   /// `tiny` its constants.
   void (*normal_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
                        double bound, double tiny, std::uint8_t* bits);
+  /// geometry/swept_volumes.h's 18-DOP volumes of a vertex over the four quarters of a step,
+  /// its operations in its order, a vertex per lane (bit for bit its values): for the n <= 64
+  /// vertices vertex_of_slot[i] at positions x0 and x1 (x, y, z interleaved, by id), inflated
+  /// by `min_distance`, the 72 floats of a QuarterDop<9> at out + 72 i, except where bit i of
+  /// `skip` is set (left as they are). nullptr where this level has no such kernel (the caller
+  /// computes them itself).
+  void (*vertex_quarters)(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
+                          double min_distance, std::uint64_t skip, float* out);
   SimdLevel level;
 };
 

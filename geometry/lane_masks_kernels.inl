@@ -702,5 +702,5 @@ void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corn
   }
 }
 
-const LaneKernels kernels{&dops,       &pair_masks, &self_masks,   &merge_lanes, &coplanar_quarters,
-                          &fast_tests, &star_signs, &normal_signs, Ops::kLevel};
+const LaneKernels kernels{&dops,       &pair_masks, &self_masks,   &merge_lanes,     &coplanar_quarters,
+                          &fast_tests, &star_signs, &normal_signs, kVertexQuarters, Ops::kLevel};

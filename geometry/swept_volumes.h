@@ -33,6 +33,7 @@
 #include <vector>
 
 #include <mccd/geometry/kdop.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/large_allocator.h>
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/topology.h>
@@ -117,6 +118,20 @@ class SweptVolumes {
   template <class Keep, class Visit>
   void update_vertex_slots_keeping(const double* x0, const double* x1, double min_distance, std::size_t begin,
                                    std::size_t end, const Keep& keep, const Visit& visit) {
+    if constexpr (BV::kSlabs == 9) {
+      // in vector lanes where the processor has them (LaneKernels::vertex_quarters: the same
+      // values), 64 slots at a time: which to keep first, then the volumes, then the visits
+      if (const auto kernel = lane_kernels().vertex_quarters) {
+        for (std::size_t g = begin; g < end; g += 64) {
+          const std::size_t ge = std::min(end, g + 64);
+          std::uint64_t kept = 0;
+          for (std::size_t s = g; s != ge; ++s) kept |= std::uint64_t(keep(vertex_of_slot_[s], s)) << (s - g);
+          kernel(x0, x1, vertex_of_slot_.data() + g, ge - g, min_distance, kept, vertex_quarters_[g].bounds[0][0]);
+          for (std::size_t s = g; s != ge; ++s) visit(s, vertex_quarters_[s]);
+        }
+        return;
+      }
+    }
     constexpr std::size_t kAhead = 8;  // positions read a few slots ahead: the layout scatters them
     for (std::size_t s = begin; s != end; ++s) {
       if (s + kAhead < end) {

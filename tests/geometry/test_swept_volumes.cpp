@@ -220,3 +220,64 @@ TEST(SweptVolumes, SlotUpdateVisitsEverySlotOnceWithItsStoredQuarters) {
     EXPECT_TRUE(same(s.face(f), merged)) << "face " << f;
   }
 }
+
+TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
+  // The update's vertex volumes in vector lanes (LaneKernels::vertex_quarters, where a level has
+  // them) equal the scalar code's bit for bit: over a permuted layout, a range that neither
+  // starts nor ends on a register or a 64-slot group, kept slots left as they were, and
+  // coordinates from 0 and denormals to beyond float range.
+  const std::size_t n = 203;
+  const MeshTopology topo(n, {});
+  std::mt19937 rng(17);
+  std::vector<double> x0(3 * n), x1(3 * n), y1(3 * n);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<int> exponent(-60, 60), kind(0, 9);
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    const double scale = std::ldexp(1.0, exponent(rng));
+    x0[i] = unit(rng) * scale;
+    x1[i] = x0[i] + unit(rng) * scale * 0.01;
+    y1[i] = unit(rng) * scale;
+    switch (kind(rng)) {
+      case 0: x0[i] = x1[i] = 0.0; break;                       // still at the origin
+      case 1: x1[i] = x0[i]; break;                             // not moving
+      case 2: x0[i] = -0.0, x1[i] = 4.9e-324; break;            // signed zero to a denormal
+      case 3: x0[i] = 3e38 * unit(rng), x1[i] = -4e38; break;   // past float range
+      default: break;
+    }
+  }
+  VolumeLayout layout;
+  layout.vertex_slot.resize(n);
+  for (std::uint32_t v = 0; v < n; ++v) layout.vertex_slot[v] = v;
+  std::shuffle(layout.vertex_slot.begin(), layout.vertex_slot.end(), rng);
+  struct KeepLevel {
+    SimdLevel level = lane_kernels().level;
+    ~KeepLevel() { select_simd_level(level); }
+  } restore;
+  auto run = [&](SimdLevel level, double distance) {
+    select_simd_level(level);
+    SweptVolumes<Kdop18> s;
+    s.resize(topo, layout);
+    s.update_vertex_slots(x0.data(), y1.data(), 0.0, 0, n);  // what kept slots keep
+    std::vector<int> seen(n, 0);
+    s.update_vertex_slots_keeping(
+        x0.data(), x1.data(), distance, 5, n - 3, [](std::uint32_t v, std::size_t slot) { return (v + slot) % 5 == 1; },
+        [&](std::size_t slot, const auto& q) {
+          ++seen[slot];
+          EXPECT_EQ(&q, &s.vertex_quarters_at(static_cast<std::uint32_t>(slot)));
+        });
+    for (std::size_t slot = 0; slot < n; ++slot) EXPECT_EQ(seen[slot], slot >= 5 && slot < n - 3 ? 1 : 0);
+    std::vector<QuarterDop<9>> out(n);
+    for (std::uint32_t slot = 0; slot < n; ++slot) out[slot] = s.vertex_quarters_at(slot);
+    return out;
+  };
+  for (double distance : {0.0, 1e-3}) {
+    const std::vector<QuarterDop<9>> scalar = run(SimdLevel::Scalar, distance);
+    for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
+      if (!lane_kernels_for(level)) continue;
+      const std::vector<QuarterDop<9>> got = run(level, distance);
+      for (std::size_t slot = 0; slot < n; ++slot)
+        EXPECT_EQ(std::memcmp(&got[slot], &scalar[slot], sizeof(QuarterDop<9>)), 0)
+            << to_string(level) << ", slot " << slot << ", distance " << distance;
+    }
+  }
+}
