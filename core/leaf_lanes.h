@@ -98,6 +98,10 @@ class LeafLanes {
     quantize(grid_, quarters.whole(), vertices_[slot]);
   }
 
+  /// Where quantize_vertex() writes, for a kernel that writes the same itself
+  /// (LaneKernels::vertex_quarters): the step's grid and the coarse volume of each vertex slot.
+  CoarseOut coarse_out() { return {grid_.origin, grid_.scale, vertices_.data()}; }
+
   /// A new step on `grid`: every leaf's lanes are stale until filled again (ensure()).
   void begin(const Grid& grid) {
     grid_ = grid;

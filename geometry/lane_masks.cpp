@@ -314,7 +314,7 @@ struct DOps {
 /// LaneKernels::vertex_quarters: eight vertices at a time, SweptVolumes::vertex_volumes's
 /// operations on each (its SSE2 path: two slabs a register there, a vertex a lane here).
 void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
-                     double min_distance, std::uint64_t skip, float* out) {
+                     double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse) {
   const __m512d quarter = _mm512_set1_pd(0.25), half = _mm512_set1_pd(0.5), three = _mm512_set1_pd(0.75);
   const __m512d scale = _mm512_set1_pd(0x1p-48), distance = _mm512_set1_pd(min_distance);
   const __m256 big = _mm256_set1_ps(std::numeric_limits<float>::max()), ulp = _mm256_set1_ps(0x1p-23f);
@@ -326,6 +326,10 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
   };
   auto up = [&](__m256 f) { return _mm256_xor_ps(down(_mm256_xor_ps(f, sign)), sign); };
   auto abs = [](__m512d v) { return DOps::abs(v); };
+  // coarse_volumes.h's CoarseGrid::quantize, eight floats at a time
+  const __m256 zero = _mm256_setzero_ps(), top = _mm256_set1_ps(65535.0f);
+  const __m256i middle = _mm256_set1_epi32(32768);
+  alignas(32) std::int32_t lower[9][8], upper[9][8];
   for (std::size_t g = 0; g < n; g += 8) {
     const unsigned m = n - g >= 8 ? 8u : static_cast<unsigned>(n - g);
     alignas(32) std::uint32_t at[8];
@@ -383,6 +387,17 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
       };
       transpose(lo, tl);
       transpose(hi, th);
+      if (coarse) {  // the merge of the quarters (QuarterDop::whole's order), on the grid
+        const __m256 whole_lo = _mm256_min_ps(lo[3], _mm256_min_ps(lo[2], _mm256_min_ps(lo[1], lo[0])));
+        const __m256 whole_hi = _mm256_max_ps(hi[3], _mm256_max_ps(hi[2], _mm256_max_ps(hi[1], hi[0])));
+        const __m256 o = _mm256_set1_ps(coarse->origin[s]), k = _mm256_set1_ps(coarse->scale[s]);
+        const __m256 ql = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(whole_lo, o), k), zero), top);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(lower[s]), _mm256_sub_epi32(_mm256_cvttps_epi32(ql), middle));
+        const __m256 qh = _mm256_max_ps(_mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(whole_hi, o), k), top), zero);
+        __m256i t = _mm256_cvttps_epi32(qh);
+        t = _mm256_sub_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(t), qh, _CMP_LT_OQ)));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(upper[s]), _mm256_sub_epi32(t, middle));
+      }
       for (unsigned i = 0; i < m; ++i) {
         if (!(stored >> i & 1u)) continue;
         float* q = out + 72 * (g + i) + 8 * s;
@@ -392,6 +407,15 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
         _mm_store_ps(q + 4, h);
       }
     }
+    if (coarse)
+      for (unsigned i = 0; i < m; ++i) {
+        if (!(stored >> i & 1u)) continue;
+        CoarseDop& c = coarse->out[g + i];
+        for (int s = 0; s < 16; ++s) {
+          c.lo[s] = s < 9 ? static_cast<std::int16_t>(lower[s][i]) : std::int16_t(0);
+          c.hi[s] = s < 9 ? static_cast<std::int16_t>(upper[s][i]) : std::int16_t(0);
+        }
+      }
   }
 }
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;

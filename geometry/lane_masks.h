@@ -42,6 +42,14 @@ struct alignas(64) CoarseDop {
   std::int16_t lo[16], hi[16];
 };
 
+/// Where LaneKernels::vertex_quarters writes coarse volumes: a grid of nine slabs (origin and
+/// scale per slab, as CoarseGrid<9>) and an array of them.
+struct CoarseOut {
+  const float* origin;
+  const float* scale;
+  CoarseDop* out;
+};
+
 /// One leaf's blocks for the kernels that test two leaves, or one, at once: its vertices', its
 /// edges' and its faces' (rows, stride, lanes), and its own coarse volume.
 struct LeafBlocks {
@@ -117,10 +125,12 @@ struct LaneKernels {
   /// its operations in its order, a vertex per lane (bit for bit its values): for the n <= 64
   /// vertices vertex_of_slot[i] at positions x0 and x1 (x, y, z interleaved, by id), inflated
   /// by `min_distance`, the 72 floats of a QuarterDop<9> at out + 72 i, except where bit i of
-  /// `skip` is set (left as they are). nullptr where this level has no such kernel (the caller
-  /// computes them itself).
+  /// `skip` is set (left as they are). With `coarse` (else nullptr), also the coarse volume of
+  /// each one written, on the grid coarse->origin, coarse->scale (CoarseGrid<9>::quantize of the
+  /// quarters' merge, bit for bit), into coarse->out[i]. nullptr where this level has no such
+  /// kernel (the caller computes them itself).
   void (*vertex_quarters)(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
-                          double min_distance, std::uint64_t skip, float* out);
+                          double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse);
   SimdLevel level;
 };
 

@@ -115,9 +115,14 @@ class SweptVolumes {
   /// the step's volumes reads them while they are in cache, not in a second pass).
   /// `keep(v, slot)`, asked once for every slot of the range (v: its vertex): true where the
   /// volumes already hold these positions', left as they are (like update_vertices' `kept`).
+  /// `coarse` (nullptr: none): where the vector kernel, if the processor has it, writes the
+  /// coarse volumes of the slots it updates (LaneKernels::vertex_quarters, its `coarse`, at
+  /// slot indices): `visit` is then called for the kept slots only. It must write the same
+  /// there as `visit` would (the coarse volumes of those quarters on that grid).
   template <class Keep, class Visit>
   void update_vertex_slots_keeping(const double* x0, const double* x1, double min_distance, std::size_t begin,
-                                   std::size_t end, const Keep& keep, const Visit& visit) {
+                                   std::size_t end, const Keep& keep, const Visit& visit,
+                                   const CoarseOut* coarse = nullptr) {
     if constexpr (BV::kSlabs == 9) {
       // in vector lanes where the processor has them (LaneKernels::vertex_quarters: the same
       // values), 64 slots at a time: which to keep first, then the volumes, then the visits
@@ -126,8 +131,12 @@ class SweptVolumes {
           const std::size_t ge = std::min(end, g + 64);
           std::uint64_t kept = 0;
           for (std::size_t s = g; s != ge; ++s) kept |= std::uint64_t(keep(vertex_of_slot_[s], s)) << (s - g);
-          kernel(x0, x1, vertex_of_slot_.data() + g, ge - g, min_distance, kept, vertex_quarters_[g].bounds[0][0]);
-          for (std::size_t s = g; s != ge; ++s) visit(s, vertex_quarters_[s]);
+          CoarseOut here;
+          if (coarse) here = {coarse->origin, coarse->scale, coarse->out + g};
+          kernel(x0, x1, vertex_of_slot_.data() + g, ge - g, min_distance, kept, vertex_quarters_[g].bounds[0][0],
+                 coarse ? &here : nullptr);
+          for (std::size_t s = g; s != ge; ++s)
+            if (!coarse || (kept >> (s - g) & 1u)) visit(s, vertex_quarters_[s]);
         }
         return;
       }

@@ -44,9 +44,12 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
     return (fixed && fixed[v]) || (track && track->note(slot, a + 3 * std::size_t(v), b + 3 * std::size_t(v)));
   };
   dynamic_for(topo.num_vertices(), vertex_grain(topo.num_vertices()), [&](std::size_t begin, std::size_t end) {
-    if (lanes)
-      swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
-                                        [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); });
+    if (lanes) {
+      const CoarseOut coarse = lanes->coarse_out();
+      swept.update_vertex_slots_keeping(
+          a, b, min_distance, begin, end, keep,
+          [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); }, &coarse);
+    }
     else
       swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
                                         [](std::size_t, const QuarterVolume<BV>&) {});

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include <mccd/geometry/coarse_volumes.h>
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/swept_volumes.h>
 
@@ -278,6 +279,58 @@ TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
       for (std::size_t slot = 0; slot < n; ++slot)
         EXPECT_EQ(std::memcmp(&got[slot], &scalar[slot], sizeof(QuarterDop<9>)), 0)
             << to_string(level) << ", slot " << slot << ", distance " << distance;
+    }
+  }
+}
+
+TEST(SweptVolumes, VertexCoarseVolumesBitForBitWithTheirQuarters) {
+  // With a coarse target, the vector kernel writes the coarse volumes of the slots it updates
+  // (CoarseGrid::quantize of their quarters' merge, bit for bit) and leaves the kept slots to
+  // the visitor; without the kernel, the visitor sees every slot.
+  const std::size_t n = 150;
+  const MeshTopology topo(n, {});
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> pos(-3, 3), step(-0.05, 0.05);
+  std::vector<double> x0(3 * n), x1(3 * n);
+  for (std::size_t i = 0; i < 3 * n; ++i) x0[i] = pos(rng), x1[i] = x0[i] + step(rng);
+  x0[7] = std::numeric_limits<double>::max() / 4;  // clamped to the grid's end
+  VolumeLayout layout;
+  layout.vertex_slot.resize(n);
+  for (std::uint32_t v = 0; v < n; ++v) layout.vertex_slot[v] = (v * 37) % n;
+  Kdop18 box = Kdop18::empty();
+  for (double c : {-2.0, 2.5}) box.add_point(Vec3(c, c * 0.5, -c));  // smaller than the points: some clamp
+  const CoarseGrid<9> grid = CoarseGrid<9>::over(box);
+  auto kept_slot = [](std::size_t slot) { return slot % 11 == 4; };
+  struct KeepLevel {
+    SimdLevel level = lane_kernels().level;
+    ~KeepLevel() { select_simd_level(level); }
+  } restore;
+  for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx512}) {
+    if (!lane_kernels_for(level)) continue;
+    select_simd_level(level);
+    SweptVolumes<Kdop18> s;
+    s.resize(topo, layout);
+    std::vector<CoarseDop> coarse(n);
+    for (CoarseDop& c : coarse) std::fill(std::begin(c.lo), std::end(c.lo), std::int16_t(7)), c.hi[0] = 7;
+    std::vector<int> visited(n, 0);
+    const CoarseOut out{grid.origin, grid.scale, coarse.data()};
+    s.update_vertex_slots_keeping(
+        x0.data(), x1.data(), 0.0, 0, n, [&](std::uint32_t, std::size_t slot) { return kept_slot(slot); },
+        [&](std::size_t slot, const auto&) { ++visited[slot]; }, &out);
+    const bool kernel = lane_kernels().vertex_quarters != nullptr;
+    for (std::size_t slot = 0; slot < n; ++slot) {
+      if (kept_slot(slot) || !kernel) {
+        EXPECT_EQ(visited[slot], 1) << to_string(level) << ", slot " << slot;
+        EXPECT_EQ(coarse[slot].lo[0], 7) << "the kernel wrote slot " << slot;
+        continue;
+      }
+      EXPECT_EQ(visited[slot], 0) << to_string(level) << ", slot " << slot;
+      std::int16_t want[18];
+      grid.quantize(s.vertex_quarters_at(static_cast<std::uint32_t>(slot)).whole(), want);
+      for (int k = 0; k < 16; ++k) {
+        EXPECT_EQ(coarse[slot].lo[k], k < 9 ? want[k] : 0) << "slot " << slot << ", bound " << k;
+        EXPECT_EQ(coarse[slot].hi[k], k < 9 ? want[9 + k] : 0) << "slot " << slot << ", bound " << k;
+      }
     }
   }
 }
