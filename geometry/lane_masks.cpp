@@ -224,7 +224,85 @@ struct DOps {
     return _mm256_or_pd(_mm256_andnot_pd(sign, a), _mm256_and_pd(sign, b));
   }
 };
-constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
+/// LaneKernels::vertex_quarters: four vertices at a time (lanes_avx512's, a register half as
+/// wide).
+void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
+                     double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse) {
+  const __m256d quarter = _mm256_set1_pd(0.25), half = _mm256_set1_pd(0.5), three = _mm256_set1_pd(0.75);
+  const __m256d scale = _mm256_set1_pd(0x1p-48), distance = _mm256_set1_pd(min_distance);
+  const __m128 zero = _mm_setzero_ps(), top = _mm_set1_ps(65535.0f);
+  const __m128i middle = _mm_set1_epi32(32768);
+  alignas(16) std::int32_t lower[9][4], upper[9][4];
+  auto abs = [](__m256d v) { return DOps::abs(v); };
+  // kdop.h's floats_down / floats_up
+  const __m128 big = _mm_set1_ps(std::numeric_limits<float>::max()), ulp = _mm_set1_ps(0x1p-23f);
+  const __m128 tiny = _mm_set1_ps(std::numeric_limits<float>::min()), sign = _mm_set1_ps(-0.0f);
+  auto floats_down = [&](__m128 f) {
+    f = _mm_min_ps(f, big);
+    return _mm_sub_ps(f, _mm_add_ps(_mm_mul_ps(_mm_andnot_ps(sign, f), ulp), tiny));
+  };
+  auto floats_up = [&](__m128 f) { return _mm_xor_ps(floats_down(_mm_xor_ps(f, sign)), sign); };
+  for (std::size_t g = 0; g < n; g += 4) {
+    const unsigned m = n - g >= 4 ? 4u : static_cast<unsigned>(n - g);
+    alignas(16) std::int32_t at[4];
+    for (unsigned i = 0; i < 4; ++i) at[i] = static_cast<std::int32_t>(3 * vertex_of_slot[g + (i < m ? i : 0)]);
+    const __m128i idx = _mm_load_si128(reinterpret_cast<const __m128i*>(at));
+    const __m256d ax = _mm256_i32gather_pd(x0, idx, 8), ay = _mm256_i32gather_pd(x0 + 1, idx, 8);
+    const __m256d az = _mm256_i32gather_pd(x0 + 2, idx, 8), bx = _mm256_i32gather_pd(x1, idx, 8);
+    const __m256d by = _mm256_i32gather_pd(x1 + 1, idx, 8), bz = _mm256_i32gather_pd(x1 + 2, idx, 8);
+    const __m256d pa[9] = {ax, ay, az, _mm256_add_pd(ax, ay), _mm256_sub_pd(ax, ay), _mm256_add_pd(ax, az),
+                           _mm256_sub_pd(ax, az), _mm256_add_pd(ay, az), _mm256_sub_pd(ay, az)};
+    const __m256d pb[9] = {bx, by, bz, _mm256_add_pd(bx, by), _mm256_sub_pd(bx, by), _mm256_add_pd(bx, bz),
+                           _mm256_sub_pd(bx, bz), _mm256_add_pd(by, bz), _mm256_sub_pd(by, bz)};
+    const __m256d largest = _mm256_max_pd(_mm256_max_pd(_mm256_max_pd(abs(ax), abs(ay)), abs(az)),
+                                          _mm256_max_pd(_mm256_max_pd(abs(bx), abs(by)), abs(bz)));
+    const __m256d margin = _mm256_add_pd(_mm256_mul_pd(largest, scale), distance);
+    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
+    for (int s = 0; s < 9; ++s) {
+      const __m256d p0 = pa[s], p4 = pb[s], d = _mm256_sub_pd(p4, p0);
+      const __m256d p1 = _mm256_add_pd(p0, _mm256_mul_pd(quarter, d));
+      const __m256d p2 = _mm256_add_pd(p0, _mm256_mul_pd(half, d));
+      const __m256d p3 = _mm256_add_pd(p0, _mm256_mul_pd(three, d));
+      __m128 lo[4] = {floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p0, p1), margin))),
+                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p1, p2), margin))),
+                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p2, p3), margin))),
+                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p3, p4), margin)))};
+      __m128 hi[4] = {floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p0, p1), margin))),
+                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p1, p2), margin))),
+                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p2, p3), margin))),
+                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p3, p4), margin)))};
+      if (coarse) {  // the merge of the quarters (QuarterDop::whole's order), on the grid
+        const __m128 whole_lo = _mm_min_ps(lo[3], _mm_min_ps(lo[2], _mm_min_ps(lo[1], lo[0])));
+        const __m128 whole_hi = _mm_max_ps(hi[3], _mm_max_ps(hi[2], _mm_max_ps(hi[1], hi[0])));
+        const __m128 o = _mm_set1_ps(coarse->origin[s]), k = _mm_set1_ps(coarse->scale[s]);
+        const __m128 ql = _mm_min_ps(_mm_max_ps(_mm_mul_ps(_mm_sub_ps(whole_lo, o), k), zero), top);
+        _mm_store_si128(reinterpret_cast<__m128i*>(lower[s]), _mm_sub_epi32(_mm_cvttps_epi32(ql), middle));
+        const __m128 qh = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(whole_hi, o), k), top), zero);
+        __m128i t = _mm_cvttps_epi32(qh);
+        t = _mm_sub_epi32(t, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(t), qh)));
+        _mm_store_si128(reinterpret_cast<__m128i*>(upper[s]), _mm_sub_epi32(t, middle));
+      }
+      _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);  // register i: vertex i's quarters 0-3
+      _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
+      for (unsigned i = 0; i < m; ++i) {
+        if (!(stored >> i & 1u)) continue;
+        float* q = out + 72 * (g + i) + 8 * s;
+        _mm_store_ps(q, lo[i]);
+        _mm_store_ps(q + 4, hi[i]);
+      }
+    }
+    if (coarse)
+      for (unsigned i = 0; i < m; ++i) {
+        if (!(stored >> i & 1u)) continue;
+        CoarseDop& c = coarse->out[g + i];
+        for (int s = 0; s < 16; ++s) {
+          c.lo[s] = s < 9 ? static_cast<std::int16_t>(lower[s][i]) : std::int16_t(0);
+          c.hi[s] = s < 9 ? static_cast<std::int16_t>(upper[s][i]) : std::int16_t(0);
+        }
+      }
+  }
+}
+constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
 #if defined(__clang__)

@@ -305,7 +305,7 @@ TEST(SweptVolumes, VertexCoarseVolumesBitForBitWithTheirQuarters) {
     SimdLevel level = lane_kernels().level;
     ~KeepLevel() { select_simd_level(level); }
   } restore;
-  for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx512}) {
+  for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
     if (!lane_kernels_for(level)) continue;
     select_simd_level(level);
     SweptVolumes<Kdop18> s;
