@@ -51,6 +51,19 @@ void merge_lanes_by_lane(const std::int16_t* rows, unsigned stride, unsigned sla
     }
   }
 }
+/// LaneKernels::vertex_quarters's coarse volumes: lane i < m of `stored` from its nine lower
+/// and upper bounds (lower[s][i], upper[s][i]), the unused bounds 0, into out[i].
+template <unsigned W>
+void write_coarse(const std::int32_t (&lower)[9][W], const std::int32_t (&upper)[9][W], unsigned m, unsigned stored,
+                  CoarseDop* out) {
+  for (unsigned i = 0; i < m; ++i) {
+    if (!(stored >> i & 1u)) continue;
+    for (int s = 0; s < 16; ++s) {
+      out[i].lo[s] = s < 9 ? static_cast<std::int16_t>(lower[s][i]) : std::int16_t(0);
+      out[i].hi[s] = s < 9 ? static_cast<std::int16_t>(upper[s][i]) : std::int16_t(0);
+    }
+  }
+}
 }  // namespace
 
 namespace lanes_scalar {
@@ -81,6 +94,7 @@ struct DOps {
   static V mul(V a, V b) { return a * b; }
   static V div(V a, V b) { return a / b; }
   static V max(V a, V b) { return a > b ? a : b; }
+  static V min(V a, V b) { return a < b ? a : b; }
   static V abs(V a) { return std::fabs(a); }
   static V neg(V a) { return -a; }
   static unsigned gt(V a, V b) { return a > b; }
@@ -132,6 +146,7 @@ struct DOps {
   static V mul(V a, V b) { return _mm_mul_pd(a, b); }
   static V div(V a, V b) { return _mm_div_pd(a, b); }
   static V max(V a, V b) { return _mm_max_pd(a, b); }
+  static V min(V a, V b) { return _mm_min_pd(a, b); }
   static V abs(V a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
   static V neg(V a) { return _mm_xor_pd(_mm_set1_pd(-0.0), a); }
   static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpgt_pd(a, b))); }
@@ -204,6 +219,7 @@ struct DOps {
   static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
   static V div(V a, V b) { return _mm256_div_pd(a, b); }
   static V max(V a, V b) { return _mm256_max_pd(a, b); }
+  static V min(V a, V b) { return _mm256_min_pd(a, b); }
   static V abs(V a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
   static V neg(V a) { return _mm256_xor_pd(_mm256_set1_pd(-0.0), a); }
   static unsigned gt(V a, V b) { return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GT_OQ))); }
@@ -224,84 +240,39 @@ struct DOps {
     return _mm256_or_pd(_mm256_andnot_pd(sign, a), _mm256_and_pd(sign, b));
   }
 };
-/// LaneKernels::vertex_quarters: four vertices at a time (lanes_avx512's, a register half as
-/// wide).
-void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
-                     double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse) {
-  const __m256d quarter = _mm256_set1_pd(0.25), half = _mm256_set1_pd(0.5), three = _mm256_set1_pd(0.75);
-  const __m256d scale = _mm256_set1_pd(0x1p-48), distance = _mm256_set1_pd(min_distance);
-  const __m128 zero = _mm_setzero_ps(), top = _mm_set1_ps(65535.0f);
-  const __m128i middle = _mm_set1_epi32(32768);
-  alignas(16) std::int32_t lower[9][4], upper[9][4];
-  auto abs = [](__m256d v) { return DOps::abs(v); };
-  // kdop.h's floats_down / floats_up
-  const __m128 big = _mm_set1_ps(std::numeric_limits<float>::max()), ulp = _mm_set1_ps(0x1p-23f);
-  const __m128 tiny = _mm_set1_ps(std::numeric_limits<float>::min()), sign = _mm_set1_ps(-0.0f);
-  auto floats_down = [&](__m128 f) {
-    f = _mm_min_ps(f, big);
-    return _mm_sub_ps(f, _mm_add_ps(_mm_mul_ps(_mm_andnot_ps(sign, f), ulp), tiny));
-  };
-  auto floats_up = [&](__m128 f) { return _mm_xor_ps(floats_down(_mm_xor_ps(f, sign)), sign); };
-  for (std::size_t g = 0; g < n; g += 4) {
-    const unsigned m = n - g >= 4 ? 4u : static_cast<unsigned>(n - g);
-    alignas(16) std::int32_t at[4];
-    for (unsigned i = 0; i < 4; ++i) at[i] = static_cast<std::int32_t>(3 * vertex_of_slot[g + (i < m ? i : 0)]);
-    const __m128i idx = _mm_load_si128(reinterpret_cast<const __m128i*>(at));
-    const __m256d ax = _mm256_i32gather_pd(x0, idx, 8), ay = _mm256_i32gather_pd(x0 + 1, idx, 8);
-    const __m256d az = _mm256_i32gather_pd(x0 + 2, idx, 8), bx = _mm256_i32gather_pd(x1, idx, 8);
-    const __m256d by = _mm256_i32gather_pd(x1 + 1, idx, 8), bz = _mm256_i32gather_pd(x1 + 2, idx, 8);
-    const __m256d pa[9] = {ax, ay, az, _mm256_add_pd(ax, ay), _mm256_sub_pd(ax, ay), _mm256_add_pd(ax, az),
-                           _mm256_sub_pd(ax, az), _mm256_add_pd(ay, az), _mm256_sub_pd(ay, az)};
-    const __m256d pb[9] = {bx, by, bz, _mm256_add_pd(bx, by), _mm256_sub_pd(bx, by), _mm256_add_pd(bx, bz),
-                           _mm256_sub_pd(bx, bz), _mm256_add_pd(by, bz), _mm256_sub_pd(by, bz)};
-    const __m256d largest = _mm256_max_pd(_mm256_max_pd(_mm256_max_pd(abs(ax), abs(ay)), abs(az)),
-                                          _mm256_max_pd(_mm256_max_pd(abs(bx), abs(by)), abs(bz)));
-    const __m256d margin = _mm256_add_pd(_mm256_mul_pd(largest, scale), distance);
-    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
-    for (int s = 0; s < 9; ++s) {
-      const __m256d p0 = pa[s], p4 = pb[s], d = _mm256_sub_pd(p4, p0);
-      const __m256d p1 = _mm256_add_pd(p0, _mm256_mul_pd(quarter, d));
-      const __m256d p2 = _mm256_add_pd(p0, _mm256_mul_pd(half, d));
-      const __m256d p3 = _mm256_add_pd(p0, _mm256_mul_pd(three, d));
-      __m128 lo[4] = {floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p0, p1), margin))),
-                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p1, p2), margin))),
-                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p2, p3), margin))),
-                      floats_down(_mm256_cvtpd_ps(_mm256_sub_pd(_mm256_min_pd(p3, p4), margin)))};
-      __m128 hi[4] = {floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p0, p1), margin))),
-                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p1, p2), margin))),
-                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p2, p3), margin))),
-                      floats_up(_mm256_cvtpd_ps(_mm256_add_pd(_mm256_max_pd(p3, p4), margin)))};
-      if (coarse) {  // the merge of the quarters (QuarterDop::whole's order), on the grid
-        const __m128 whole_lo = _mm_min_ps(lo[3], _mm_min_ps(lo[2], _mm_min_ps(lo[1], lo[0])));
-        const __m128 whole_hi = _mm_max_ps(hi[3], _mm_max_ps(hi[2], _mm_max_ps(hi[1], hi[0])));
-        const __m128 o = _mm_set1_ps(coarse->origin[s]), k = _mm_set1_ps(coarse->scale[s]);
-        const __m128 ql = _mm_min_ps(_mm_max_ps(_mm_mul_ps(_mm_sub_ps(whole_lo, o), k), zero), top);
-        _mm_store_si128(reinterpret_cast<__m128i*>(lower[s]), _mm_sub_epi32(_mm_cvttps_epi32(ql), middle));
-        const __m128 qh = _mm_max_ps(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(whole_hi, o), k), top), zero);
-        __m128i t = _mm_cvttps_epi32(qh);
-        t = _mm_sub_epi32(t, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(t), qh)));
-        _mm_store_si128(reinterpret_cast<__m128i*>(upper[s]), _mm_sub_epi32(t, middle));
-      }
-      _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);  // register i: vertex i's quarters 0-3
-      _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
-      for (unsigned i = 0; i < m; ++i) {
-        if (!(stored >> i & 1u)) continue;
-        float* q = out + 72 * (g + i) + 8 * s;
-        _mm_store_ps(q, lo[i]);
-        _mm_store_ps(q + 4, hi[i]);
-      }
-    }
-    if (coarse)
-      for (unsigned i = 0; i < m; ++i) {
-        if (!(stored >> i & 1u)) continue;
-        CoarseDop& c = coarse->out[g + i];
-        for (int s = 0; s < 16; ++s) {
-          c.lo[s] = s < 9 ? static_cast<std::int16_t>(lower[s][i]) : std::int16_t(0);
-          c.hi[s] = s < 9 ? static_cast<std::int16_t>(upper[s][i]) : std::int16_t(0);
-        }
-      }
+/// LaneKernels::vertex_quarters's operations (geometry/vertex_quarters_kernel.inl).
+struct VOps {
+  static constexpr unsigned kLanes = 4;
+  using D = DOps::V;  // the double operations are DOps'
+  using F = __m128;
+  using I = __m128i;
+  static D gather(const double* base, const std::int32_t* at) {
+    return _mm256_i32gather_pd(base, _mm_load_si128(reinterpret_cast<const __m128i*>(at)), 8);
   }
-}
+  static F cvt(D a) { return _mm256_cvtpd_ps(a); }
+  static F fset(float x) { return _mm_set1_ps(x); }
+  static F fadd(F a, F b) { return _mm_add_ps(a, b); }
+  static F fsub(F a, F b) { return _mm_sub_ps(a, b); }
+  static F fmul(F a, F b) { return _mm_mul_ps(a, b); }
+  static F fmin(F a, F b) { return _mm_min_ps(a, b); }
+  static F fmax(F a, F b) { return _mm_max_ps(a, b); }
+  static F fandnot(F a, F b) { return _mm_andnot_ps(a, b); }
+  static F fxor(F a, F b) { return _mm_xor_ps(a, b); }
+  static I cvtt(F a) { return _mm_cvttps_epi32(a); }
+  static F itof(I a) { return _mm_cvtepi32_ps(a); }
+  static I lt(F a, F b) { return _mm_castps_si128(_mm_cmplt_ps(a, b)); }
+  static I isub(I a, I b) { return _mm_sub_epi32(a, b); }
+  static I iset(std::int32_t x) { return _mm_set1_epi32(x); }
+  static void istore(std::int32_t* p, I a) { _mm_store_si128(reinterpret_cast<__m128i*>(p), a); }
+  static void store(const F (&lo)[4], const F (&hi)[4], unsigned m, unsigned stored, float* out) {
+    F l[4] = {lo[0], lo[1], lo[2], lo[3]}, h[4] = {hi[0], hi[1], hi[2], hi[3]};
+    _MM_TRANSPOSE4_PS(l[0], l[1], l[2], l[3]);  // register i: lane i's quarters 0-3
+    _MM_TRANSPOSE4_PS(h[0], h[1], h[2], h[3]);
+    for (unsigned i = 0; i < m; ++i)
+      if (stored >> i & 1u) _mm_store_ps(out + 72 * i, l[i]), _mm_store_ps(out + 72 * i + 4, h[i]);
+  }
+};
+#include "vertex_quarters_kernel.inl"
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
@@ -366,6 +337,7 @@ struct DOps {
   static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
   static V div(V a, V b) { return _mm512_div_pd(a, b); }
   static V max(V a, V b) { return _mm512_max_pd(a, b); }
+  static V min(V a, V b) { return _mm512_min_pd(a, b); }
   static V abs(V a) { return bits_op<false>(a, 0x7fffffffffffffffLL); }
   static V neg(V a) { return bits_op<true>(a, static_cast<long long>(0x8000000000000000ULL)); }
   /// a's bits and (Xor: xor) `mask`'s (AVX-512F has no floating-point and / xor)
@@ -389,113 +361,52 @@ struct DOps {
                                                _mm512_and_si512(sign, _mm512_castpd_si512(b))));
   }
 };
-/// LaneKernels::vertex_quarters: eight vertices at a time, SweptVolumes::vertex_volumes's
-/// operations on each (its SSE2 path: two slabs a register there, a vertex a lane here).
-void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
-                     double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse) {
-  const __m512d quarter = _mm512_set1_pd(0.25), half = _mm512_set1_pd(0.5), three = _mm512_set1_pd(0.75);
-  const __m512d scale = _mm512_set1_pd(0x1p-48), distance = _mm512_set1_pd(min_distance);
-  const __m256 big = _mm256_set1_ps(std::numeric_limits<float>::max()), ulp = _mm256_set1_ps(0x1p-23f);
-  const __m256 tiny = _mm256_set1_ps(std::numeric_limits<float>::min()), sign = _mm256_set1_ps(-0.0f);
-  // kdop.h's floats_down / floats_up, eight floats at a time
-  auto down = [&](__m256 f) {
-    f = _mm256_min_ps(f, big);
-    return _mm256_sub_ps(f, _mm256_add_ps(_mm256_mul_ps(_mm256_andnot_ps(sign, f), ulp), tiny));
-  };
-  auto up = [&](__m256 f) { return _mm256_xor_ps(down(_mm256_xor_ps(f, sign)), sign); };
-  auto abs = [](__m512d v) { return DOps::abs(v); };
-  // coarse_volumes.h's CoarseGrid::quantize, eight floats at a time
-  const __m256 zero = _mm256_setzero_ps(), top = _mm256_set1_ps(65535.0f);
-  const __m256i middle = _mm256_set1_epi32(32768);
-  alignas(32) std::int32_t lower[9][8], upper[9][8];
-  for (std::size_t g = 0; g < n; g += 8) {
-    const unsigned m = n - g >= 8 ? 8u : static_cast<unsigned>(n - g);
-    alignas(32) std::uint32_t at[8];
-    for (unsigned i = 0; i < 8; ++i) at[i] = 3 * vertex_of_slot[g + (i < m ? i : 0)];
-    const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(at));
-    const __m512d ax = _mm512_i32gather_pd(idx, x0, 8), ay = _mm512_i32gather_pd(idx, x0 + 1, 8);
-    const __m512d az = _mm512_i32gather_pd(idx, x0 + 2, 8), bx = _mm512_i32gather_pd(idx, x1, 8);
-    const __m512d by = _mm512_i32gather_pd(idx, x1 + 1, 8), bz = _mm512_i32gather_pd(idx, x1 + 2, 8);
-    const __m512d pa[9] = {ax,
-                           ay,
-                           az,
-                           _mm512_add_pd(ax, ay),
-                           _mm512_sub_pd(ax, ay),
-                           _mm512_add_pd(ax, az),
-                           _mm512_sub_pd(ax, az),
-                           _mm512_add_pd(ay, az),
-                           _mm512_sub_pd(ay, az)};
-    const __m512d pb[9] = {bx,
-                           by,
-                           bz,
-                           _mm512_add_pd(bx, by),
-                           _mm512_sub_pd(bx, by),
-                           _mm512_add_pd(bx, bz),
-                           _mm512_sub_pd(bx, bz),
-                           _mm512_add_pd(by, bz),
-                           _mm512_sub_pd(by, bz)};
-    // the largest coordinate (a maximum: exact in any order) times 2^-48, plus the distance
-    const __m512d largest = _mm512_max_pd(_mm512_max_pd(_mm512_max_pd(abs(ax), abs(ay)), abs(az)),
-                                          _mm512_max_pd(_mm512_max_pd(abs(bx), abs(by)), abs(bz)));
-    const __m512d margin = _mm512_add_pd(_mm512_mul_pd(largest, scale), distance);
-    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
-    for (int s = 0; s < 9; ++s) {
-      const __m512d p0 = pa[s], p4 = pb[s], d = _mm512_sub_pd(p4, p0);
-      const __m512d p1 = _mm512_add_pd(p0, _mm512_mul_pd(quarter, d));
-      const __m512d p2 = _mm512_add_pd(p0, _mm512_mul_pd(half, d));
-      const __m512d p3 = _mm512_add_pd(p0, _mm512_mul_pd(three, d));
-      const __m256 lo[4] = {down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p0, p1), margin))),
-                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p1, p2), margin))),
-                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p2, p3), margin))),
-                            down(_mm512_cvtpd_ps(_mm512_sub_pd(_mm512_min_pd(p3, p4), margin)))};
-      const __m256 hi[4] = {up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p0, p1), margin))),
-                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p1, p2), margin))),
-                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p2, p3), margin))),
-                            up(_mm512_cvtpd_ps(_mm512_add_pd(_mm512_max_pd(p3, p4), margin)))};
-      // quarters 0-3 of each vertex side by side: a 4 x 8 transpose, vertex i in the low half
-      // of register i (i < 4) or the high half of register i - 4
-      __m256 tl[4], th[4];
-      auto transpose = [](const __m256* q, __m256* t) {
-        const __m256 a = _mm256_unpacklo_ps(q[0], q[1]), b = _mm256_unpackhi_ps(q[0], q[1]);
-        const __m256 c = _mm256_unpacklo_ps(q[2], q[3]), e = _mm256_unpackhi_ps(q[2], q[3]);
-        t[0] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0));
-        t[1] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2));
-        t[2] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(1, 0, 1, 0));
-        t[3] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(3, 2, 3, 2));
-      };
-      transpose(lo, tl);
-      transpose(hi, th);
-      if (coarse) {  // the merge of the quarters (QuarterDop::whole's order), on the grid
-        const __m256 whole_lo = _mm256_min_ps(lo[3], _mm256_min_ps(lo[2], _mm256_min_ps(lo[1], lo[0])));
-        const __m256 whole_hi = _mm256_max_ps(hi[3], _mm256_max_ps(hi[2], _mm256_max_ps(hi[1], hi[0])));
-        const __m256 o = _mm256_set1_ps(coarse->origin[s]), k = _mm256_set1_ps(coarse->scale[s]);
-        const __m256 ql = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(whole_lo, o), k), zero), top);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(lower[s]), _mm256_sub_epi32(_mm256_cvttps_epi32(ql), middle));
-        const __m256 qh = _mm256_max_ps(_mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(whole_hi, o), k), top), zero);
-        __m256i t = _mm256_cvttps_epi32(qh);
-        t = _mm256_sub_epi32(t, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(t), qh, _CMP_LT_OQ)));
-        _mm256_store_si256(reinterpret_cast<__m256i*>(upper[s]), _mm256_sub_epi32(t, middle));
-      }
-      for (unsigned i = 0; i < m; ++i) {
-        if (!(stored >> i & 1u)) continue;
-        float* q = out + 72 * (g + i) + 8 * s;
-        const __m128 l = i < 4 ? _mm256_castps256_ps128(tl[i]) : _mm256_extractf128_ps(tl[i - 4], 1);
-        const __m128 h = i < 4 ? _mm256_castps256_ps128(th[i]) : _mm256_extractf128_ps(th[i - 4], 1);
-        _mm_store_ps(q, l);
-        _mm_store_ps(q + 4, h);
-      }
-    }
-    if (coarse)
-      for (unsigned i = 0; i < m; ++i) {
-        if (!(stored >> i & 1u)) continue;
-        CoarseDop& c = coarse->out[g + i];
-        for (int s = 0; s < 16; ++s) {
-          c.lo[s] = s < 9 ? static_cast<std::int16_t>(lower[s][i]) : std::int16_t(0);
-          c.hi[s] = s < 9 ? static_cast<std::int16_t>(upper[s][i]) : std::int16_t(0);
-        }
-      }
+/// LaneKernels::vertex_quarters's operations (geometry/vertex_quarters_kernel.inl).
+struct VOps {
+  static constexpr unsigned kLanes = 8;
+  using D = DOps::V;  // the double operations are DOps'
+  using F = __m256;
+  using I = __m256i;
+  static D gather(const double* base, const std::int32_t* at) {
+    return _mm512_i32gather_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(at)), base, 8);
   }
-}
+  static F cvt(D a) { return _mm512_cvtpd_ps(a); }
+  static F fset(float x) { return _mm256_set1_ps(x); }
+  static F fadd(F a, F b) { return _mm256_add_ps(a, b); }
+  static F fsub(F a, F b) { return _mm256_sub_ps(a, b); }
+  static F fmul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static F fmin(F a, F b) { return _mm256_min_ps(a, b); }
+  static F fmax(F a, F b) { return _mm256_max_ps(a, b); }
+  static F fandnot(F a, F b) { return _mm256_andnot_ps(a, b); }
+  static F fxor(F a, F b) { return _mm256_xor_ps(a, b); }
+  static I cvtt(F a) { return _mm256_cvttps_epi32(a); }
+  static F itof(I a) { return _mm256_cvtepi32_ps(a); }
+  static I lt(F a, F b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_LT_OQ)); }
+  static I isub(I a, I b) { return _mm256_sub_epi32(a, b); }
+  static I iset(std::int32_t x) { return _mm256_set1_epi32(x); }
+  static void istore(std::int32_t* p, I a) { _mm256_store_si256(reinterpret_cast<__m256i*>(p), a); }
+  /// A 4 x 8 transpose per 128-bit half: lane i's quarters in the low half of register i (i < 4)
+  /// or the high half of register i - 4.
+  static void store(const F (&lo)[4], const F (&hi)[4], unsigned m, unsigned stored, float* out) {
+    F l[4], h[4];
+    auto transpose = [](const F (&q)[4], F (&t)[4]) {
+      const F a = _mm256_unpacklo_ps(q[0], q[1]), b = _mm256_unpackhi_ps(q[0], q[1]);
+      const F c = _mm256_unpacklo_ps(q[2], q[3]), e = _mm256_unpackhi_ps(q[2], q[3]);
+      t[0] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0));
+      t[1] = _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2));
+      t[2] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(1, 0, 1, 0));
+      t[3] = _mm256_shuffle_ps(b, e, _MM_SHUFFLE(3, 2, 3, 2));
+    };
+    transpose(lo, l);
+    transpose(hi, h);
+    for (unsigned i = 0; i < m; ++i) {
+      if (!(stored >> i & 1u)) continue;
+      _mm_store_ps(out + 72 * i, i < 4 ? _mm256_castps256_ps128(l[i]) : _mm256_extractf128_ps(l[i - 4], 1));
+      _mm_store_ps(out + 72 * i + 4, i < 4 ? _mm256_castps256_ps128(h[i]) : _mm256_extractf128_ps(h[i - 4], 1));
+    }
+  }
+};
+#include "vertex_quarters_kernel.inl"
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx512
