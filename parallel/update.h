@@ -49,10 +49,10 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
       swept.update_vertex_slots_keeping(
           a, b, min_distance, begin, end, keep,
           [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); }, &coarse);
-    }
-    else
+    } else {
       swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
                                         [](std::size_t, const QuarterVolume<BV>&) {});
+    }
   });
 }
 

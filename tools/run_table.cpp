@@ -108,8 +108,7 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     return true;
   }
   // Each sub-step's contacts come sorted (the canonical order), and so do their keys: kept as
-  // one run per sub-step and merged once, after the last (log2 K passes over the step's pairs,
-  // instead of a pass over all the pairs so far at every sub-step).
+  // one run per sub-step and merged once, after the last (log2 K passes over the step's pairs).
   const std::size_t at = keys_.size(), need = at + r.contacts.size();
   if (need > keys_.capacity()) {
     // Room for the step's other sub-steps at this one's rate, in one array (of megabytes: in
