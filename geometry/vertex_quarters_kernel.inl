@@ -36,6 +36,8 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
   alignas(32) std::int32_t lower[9][W], upper[9][W];
   for (std::size_t g = 0; g < n; g += W) {
     const unsigned m = n - g >= W ? W : static_cast<unsigned>(n - g);
+    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
+    if (!stored) continue;  // every one kept (a static mesh's vertices): nothing to compute
     alignas(32) std::int32_t at[W];
     for (unsigned i = 0; i < W; ++i) at[i] = static_cast<std::int32_t>(3 * vertex_of_slot[g + (i < m ? i : 0)]);
     const typename V::D ax = V::gather(x0, at), ay = V::gather(x0 + 1, at), az = V::gather(x0 + 2, at);
@@ -49,7 +51,6 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
     const typename V::D largest = DOps::max(DOps::max(DOps::max(DOps::abs(ax), DOps::abs(ay)), DOps::abs(az)),
                                           DOps::max(DOps::max(DOps::abs(bx), DOps::abs(by)), DOps::abs(bz)));
     const typename V::D margin = DOps::add(DOps::mul(largest, scale), distance);
-    const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
     for (int s = 0; s < 9; ++s) {
       const typename V::D p0 = pa[s], p4 = pb[s], d = DOps::sub(p4, p0);
       const typename V::D p[5] = {p0, DOps::add(p0, DOps::mul(quarter, d)), DOps::add(p0, DOps::mul(half, d)),
