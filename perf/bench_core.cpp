@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
     MachineInfo info;
     info.name = machine, info.cpu = cpu_model(), info.hardware_threads = tbb::info::default_concurrency();
     info.load_before = load_average(), info.date = now_text(), info.command = joined(argc, argv), info.repeats = repeats;
+    info.cores_before = time_cores_alone();
     const auto start = std::chrono::steady_clock::now();
     std::vector<RunRecord> runs;
     std::vector<Workload> loaded;
@@ -117,6 +118,7 @@ int main(int argc, char** argv) {
       loaded.push_back(std::move(w));
     }
     info.load_after = load_average();
+    info.cores_after = time_cores_alone();
 
     const std::vector<VariantSummary> variants = summarize(runs);
     std::vector<SceneSummary> summaries;

@@ -1,22 +1,23 @@
 // How this machine's cores scale, without mccd: the same fixed work on every thread, run on
 // 1, 2, 4, ... threads at once, compute-bound (independent floating-point chains held in
-// registers) and cache-bound (each thread sums its own array over and over). A per-thread rate
+// registers: perf/harness/cores.h) and cache-bound (each thread sums its own array over and over). A per-thread rate
 // that falls as threads are added (a lower clock with every core busy, a shared cache's
 // bandwidth, a host's other guests) caps every program's speedup there: the ceiling on P
-// threads is P x rate(P) / rate(1). The 16-core figures of bench_core read against it.
+// threads is P x rate(P) / rate(1). The 16-core figures of bench_core read against it. Then each
+// core alone (perf/harness/cores.h): unequal cores cap a speedup too.
 //   bench_machine [--threads 1,2,4,8,16] [--rounds K] [--kib N]
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
-#include <numeric>
 #include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "harness/cli.h"
+#include "harness/cores.h"
 #include "harness/summary.h"
 
 using namespace mccd::bench;
@@ -24,24 +25,6 @@ using namespace mccd::bench;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// Compute-bound work: 8 independent chains x = x c + d, `n` rounds (16 n floating-point
-/// operations). The result is returned so that nothing is optimised away.
-double compute(std::uint64_t n) {
-  double x[8] = {1, 2, 3, 4, 5, 6, 7, 8};
-  const double c = 0.9999999, d = 1e-7;
-  for (std::uint64_t i = 0; i < n; ++i)
-    for (double& v : x) v = v * c + d;
-  return std::accumulate(x, x + 8, 0.0);
-}
-
-/// Cache-bound work: `passes` sums over the thread's own array.
-std::uint64_t stream(const std::vector<std::uint64_t>& a, int passes) {
-  std::uint64_t s = 0;
-  for (int p = 0; p < passes; ++p)
-    for (std::uint64_t v : a) s += v;
-  return s;
-}
 
 /// Seconds each of `threads` threads took for `work(t)`, all started together.
 template <class Work>
@@ -91,7 +74,7 @@ int main(int argc, char** argv) {
   threads.erase(std::unique(threads.begin(), threads.end()), threads.end());
 
   try {
-    constexpr std::uint64_t kRounds = 20'000'000;  // compute: 320 M floating-point operations a thread
+    constexpr std::uint64_t kRounds = 10'000'000;  // compute: 320 M floating-point operations a thread
     const std::size_t words = static_cast<std::size_t>(kib) * 1024 / sizeof(std::uint64_t);
     const int passes = std::max(1, static_cast<int>((std::size_t(1) << 31) / (words * sizeof(std::uint64_t))));
     const int most = *std::max_element(threads.begin(), threads.end());
@@ -104,11 +87,11 @@ int main(int argc, char** argv) {
     for (int r = 0; r < rounds; ++r)
       for (std::size_t i = 0; i < threads.size(); ++i) {
         const int t = threads[i];
-        const auto c = run_together(t, [&](int k) { sink[static_cast<std::size_t>(k)] = compute(kRounds); });
+        const auto c = run_together(t, [&](int k) { sink[static_cast<std::size_t>(k)] = independent_chains(kRounds); });
         const auto s = run_together(t, [&](int k) {
-          isink[static_cast<std::size_t>(k)] = stream(arrays[static_cast<std::size_t>(k)], passes);
+          isink[static_cast<std::size_t>(k)] = sum_passes(arrays[static_cast<std::size_t>(k)], passes);
         });
-        flops[i].push_back(16.0 * double(kRounds) / median(c) * 1e-9);
+        flops[i].push_back(32.0 * double(kRounds) / median(c) * 1e-9);
         bytes[i].push_back(double(passes) * double(words * sizeof(std::uint64_t)) / median(s) * 1e-9);
       }
     std::printf("%zu threads most, %d rounds (medians), cache-bound: %d KiB a thread, %d passes\n", static_cast<std::size_t>(most),
@@ -120,6 +103,21 @@ int main(int argc, char** argv) {
       const double f = median(flops[i]), b = median(bytes[i]);
       std::printf("%8d  %14.2f %9.3f %7.1fx  %14.2f %9.3f %7.1fx\n", threads[i], f, f / f1, threads[i] * f / f1, b,
                   b / b1, threads[i] * b / b1);
+    }
+    // Each core on its own: a virtual machine's cores need not be equally fast.
+    const std::vector<CoreRate> cores = time_cores_alone(rounds);
+    if (!cores.empty()) {
+      std::printf("\neach core alone (one thread pinned to it, best of %d rounds), against the fastest core\n", rounds);
+      std::printf("%8s  %14s %9s  %14s %9s\n", "cpu", "Gflop/s", "vs best", "GB/s", "vs best");
+      for (const CoreRate& c : cores)
+        std::printf("%8d  %14.2f %9.3f  %14.2f %9.3f\n", c.cpu, c.compute, c.compute_vs_best, c.cache,
+                    c.cache_vs_best);
+      for (int t : threads) {
+        if (t == 1) continue;
+        const Ceiling c = speedup_ceiling(cores, t);
+        std::printf("ceiling on %d threads from the cores' compute rates: %.2fx over a 1-thread run on the fastest core, "
+                    "%.2fx over one on the slowest\n", t, c.from_fastest, c.from_slowest);
+      }
     }
     double keep = 0;
     for (double v : sink) keep += v;

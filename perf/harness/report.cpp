@@ -106,7 +106,20 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   o << "# mccd benchmarks: " << m.name << "\n\n"
     << "Machine: " << m.cpu << ", " << m.hardware_threads << " hardware threads. Load average (1, 5, 15 min) "
     << m.load_before << " before the sweep, " << m.load_after << " after. " << m.date << ".\n\n"
-    << "Command: `" << m.command << "`\n\n"
+    << "Command: `" << m.command << "`\n\n";
+  if (!m.cores_before.empty() || !m.cores_after.empty()) {
+    const Ceiling lo = speedup_ceiling(m.cores_before, m.hardware_threads),
+                  hi = speedup_ceiling(m.cores_after, m.hardware_threads);
+    char ceil[160];
+    std::snprintf(ceil, sizeof ceil, "%.2fx-%.2fx before, %.2fx-%.2fx after", lo.from_fastest, lo.from_slowest,
+                  hi.from_fastest, hi.from_slowest);
+    o << "Each core alone, one thread pinned to it, against the fastest (compute / cache-bound): before the sweep "
+      << core_rates_text(m.cores_before) << "; after " << core_rates_text(m.cores_after)
+      << ". Unequal cores cap a speedup on all " << m.hardware_threads
+      << " threads at the sum of their rates over the 1-thread run's core's: " << ceil
+      << " (1-thread run on the fastest core - on the slowest).\n\n";
+  }
+  o
     << "Each variant (scene x method x threads) first runs once as a warm-up whose contacts are compared, step by step,\n"
     << "with the serial result (traverse, 1 thread); then " << m.repeats << " timed runs from a fresh scene. Times are\n"
     << "wall-clock ms per frame interval (all steps of a run over the frame intervals they cover): median [min-max].\n"

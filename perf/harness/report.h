@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/cores.h"
 #include "harness/summary.h"
 
 namespace mccd::bench {
@@ -17,6 +18,8 @@ struct MachineInfo {
   std::string load_before, load_after;  ///< /proc/loadavg's three averages
   std::string date, command;
   int repeats = 0;
+  /// Each core alone before and after the sweep (time_cores_alone(); empty: not measured).
+  std::vector<CoreRate> cores_before, cores_after;
 };
 
 /// The CPU model name (/proc/cpuinfo), or "unknown CPU".
