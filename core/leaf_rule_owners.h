@@ -52,6 +52,8 @@ class LeafOwnership {
   /// The corners of the face in face slot `slot` (the BVH's triangle order): vertex ids, and
   /// vertex slots.
   const Triangle& face_corners(std::uint32_t slot) const { return face_corners_[slot]; }
+  /// face_corners() of every face slot in order (nullptr when not built: no leaf rule).
+  const Triangle* face_corners_in_order() const { return face_corners_.empty() ? nullptr : face_corners_.data(); }
   const Triangle& face_corner_slots(std::uint32_t slot) const { return face_corner_slots_[slot]; }
   /// A leaf's own pairs that are not adjacent, as masks over the leaf (fixed by connectivity):
   /// for the edge in slot `slot`, bit j set when the edge in slot edge_begin(leaf) + j comes

@@ -109,9 +109,9 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
   return s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3 ? s0 : 0;
 }
 
-void SelfCulling::normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
-                                        const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits) {
-  lanes.normal_signs(x0, x1, corners, n, kBound, kTiny, bits);
+unsigned SelfCulling::normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
+                                            const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits) {
+  return lanes.normal_signs(x0, x1, corners, n, kBound, kTiny, bits);
 }
 
 void SelfCulling::star_signs(const LaneKernels& lanes, const double* x0, const double* x1,
@@ -324,7 +324,7 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 }
 
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
-                          const Executor& ex, const RayMeets& ray_meets) {
+                          const Executor& ex, const RayMeets& ray_meets, const Triangle* leaf_corners) {
   const LaneKernels& lanes = lane_kernels();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
@@ -356,15 +356,12 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     const std::uint32_t* ids = bvh.leaf_triangles(node);
     const std::uint32_t count = bvh.leaf_count(node);
     std::uint32_t corners[BvhTopology::kMaxLeaf][3];
-    std::uint8_t bits[BvhTopology::kMaxLeaf];
+    const Triangle* in_order = leaf_corners ? leaf_corners + bvh.leaf_first(node) : nullptr;
     for (std::uint32_t k = 0; k < count; ++k) {
-      const Triangle& t = faces[ids[k]];
+      const Triangle& t = in_order ? in_order[k] : faces[ids[k]];
       corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
     }
-    normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, bits);
-    unsigned s = 0x3F;
-    for (std::uint32_t k = 0; k < count; ++k) s &= bits[k];
-    signs_[node] = static_cast<std::uint8_t>(s);
+    signs_[node] = static_cast<std::uint8_t>(normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, nullptr));
   };
   // The needed leaves' signs: of the leaves under a closed surface (`under_closed`; under one
   // certified this step none is needed) or of those under none.

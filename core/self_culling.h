@@ -81,9 +81,13 @@ class SelfCulling {
   /// along `direction` certainly meets no triangle of `node` at the start of the step (its
   /// volume is apart from the ray); it lets the closed-surface certificate skip subtrees.
   using RayMeets = std::function<bool(std::uint32_t, const Vec3&, const Vec3&)>;
-  /// Loops through `ex`; the certificates do not depend on it.
+  /// Loops through `ex`; the certificates do not depend on it. `leaf_corners` (nullptr: none):
+  /// each triangle's corners in the BVH's leaf order (entry bvh.leaf_first(leaf) + k for
+  /// bvh.leaf_triangles(leaf)[k]; LeafOwnership::face_corners), read instead of the mesh's
+  /// faces through the leaves' triangle ids.
   void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
-               const Executor& ex = serial_executor(), const RayMeets& ray_meets = {});
+               const Executor& ex = serial_executor(), const RayMeets& ray_meets = {},
+               const Triangle* leaf_corners = nullptr);
   /// Nothing is covered (a step that does not cull: brute force, or culling off).
   void clear() { active_ = false; }
 
@@ -110,8 +114,9 @@ class SelfCulling {
   /// normal_signs (every axis) of n triangles, corners[i] (vertex ids) at the interleaved
   /// positions x0 and x1, in the vector lanes of `lanes`: bits[i], normal_signs' values bit for
   /// bit at every SIMD level. Exposed for the tests.
-  static void normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
-                                    const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits);
+  /// Returns the bits all n share (their and, 0x3F for none); `bits` may be nullptr.
+  static unsigned normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,
+                                        const std::uint32_t (*corners)[3], std::size_t n, std::uint8_t* bits);
   /// The sign (+1, -1, or 0: not certain) that det(b - a, c - a, p - a) keeps over the step,
   /// every point moving linearly from its `0` to its `1` position. Exposed for the tests.
   static int star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,

@@ -117,10 +117,11 @@ struct LaneKernels {
   void (*star_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
                      const double* m0, const double* m1, double bound, double tiny, std::int8_t* signs);
   /// core/self_culling.cpp's normal_signs with every axis wanted, for `n` triangles given as
-  /// for star_signs: bits[i], its operations in its order, a triangle per lane; `bound` and
-  /// `tiny` its constants.
-  void (*normal_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
-                       double bound, double tiny, std::uint8_t* bits);
+  /// for star_signs: bits[i] (not written when `bits` is nullptr), its operations in its order,
+  /// a triangle per lane; `bound` and `tiny` its constants. Returns the bits all n triangles
+  /// have (their and; 0x3F when n is 0).
+  unsigned (*normal_signs)(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
+                           double bound, double tiny, std::uint8_t* bits);
   /// geometry/swept_volumes.h's 18-DOP volumes of a vertex over the four quarters of a step,
   /// its operations in its order, a vertex per lane (bit for bit its values): for the n <= 64
   /// vertices vertex_of_slot[i] at positions x0 and x1 (x, y, z interleaved, by id), inflated

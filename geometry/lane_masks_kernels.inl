@@ -651,11 +651,12 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
 
 /// LaneKernels::normal_signs: core/self_culling.cpp's normal_signs (every axis wanted), a
 /// triangle per lane, its operations in its order (product_sign<true>, bernstein_sign).
-void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n, double bound,
-                  double tiny, std::uint8_t* bits) {
+unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
+                      double bound, double tiny, std::uint8_t* bits) {
   using D = DOps;
   constexpr unsigned W = D::kLanes;
   const D::V kb = D::set1(bound), knb = D::set1(-bound), kt = D::set1(tiny);
+  unsigned shared = 0x3F;  // the bits every triangle so far has
   for (std::size_t first = 0; first < n; first += W) {
     const unsigned m = static_cast<unsigned>(std::min<std::size_t>(W, n - first));
     P3 p[2][3];
@@ -690,16 +691,21 @@ void normal_signs(const double* x0, const double* x1, const std::uint32_t (*corn
       lane_bits[d][0] = pos & normal;
       lane_bits[d][1] = neg & normal;
     }
+    // A lane is never both certainly positive and certainly negative (with `normal`, each
+    // magnitude is above `tiny`, so the two bounds have opposite signs): its bits are the two
+    // masks' bits as they are, without a branch.
+    const unsigned used = m == 32 ? ~0u : (1u << m) - 1;
+    for (int d = 0; d < 3; ++d)
+      for (int k = 0; k < 2; ++k)
+        if ((lane_bits[d][k] & used) != used) shared &= ~(1u << (2 * d + k));
+    if (!bits) continue;
     for (unsigned l = 0; l < m; ++l) {
       unsigned b = 0;
-      for (int d = 0; d < 3; ++d) {
-        const unsigned p = lane_bits[d][0] >> l & 1u, q = lane_bits[d][1] >> l & 1u;
-        // pos - neg: +1 when only pos, -1 when only neg, 0 when both or neither
-        b |= (p && !q ? 1u : !p && q ? 2u : 0u) << (2 * d);
-      }
+      for (int d = 0; d < 3; ++d) b |= ((lane_bits[d][0] >> l & 1u) | (lane_bits[d][1] >> l & 1u) << 1) << (2 * d);
       bits[first + l] = static_cast<std::uint8_t>(b);
     }
   }
+  return shared;
 }
 
 const LaneKernels kernels{&dops,       &pair_masks, &self_masks,   &merge_lanes,     &coplanar_quarters,

@@ -1,6 +1,7 @@
 // Self-collision culling (core/self_culling.h): which BVH nodes are disks, the certified
 // orientation and contour tests, and scenes that report the same contacts with and without it.
 #include <mccd/core/bvh.h>
+#include <mccd/core/leaf_rule_owners.h>
 #include <mccd/parallel/scene.h>
 #include <mccd/core/self_culling.h>
 #include <mccd/geometry/lane_masks.h>
@@ -287,6 +288,31 @@ TEST(SelfCulling, NormalSignsEqualTheAxisByAxisFormulaAndHoldAtSampledTimes) {
   EXPECT_GT(signed_axes, 10000);  // the check above is not vacuous
 }
 
+TEST(SelfCulling, CornersInLeafOrderCertifyTheSame) {
+  // certify() reading each triangle's corners from a copy in the leaves' order (the leaf
+  // rule's LeafOwnership::face_corners) against reading them through the mesh: the same nodes
+  // covered, by the same certified node, step after step of the generated cloth.
+  const AnimatedScene a = make_scene("cloth", 8, 4);
+  Built g(a.meshes, 21);
+  const LeafOwnership owners(g.bvh, g.scene.topology());
+  ASSERT_NE(owners.face_corners_in_order(), nullptr);
+  SelfCulling plain(g.bvh, g.scene), ordered(g.bvh, g.scene);
+  ASSERT_GT(plain.num_disks(), 0u);
+  std::uint64_t certified = 0;
+  for (std::size_t f = 0; f + 1 < a.frames.size(); ++f) {
+    const Positions& x0 = a.frames[f][0];
+    const Positions& x1 = a.frames[f + 1][0];
+    plain.certify(g.bvh, g.scene.topology(), x0, x1);
+    ordered.certify(g.bvh, g.scene.topology(), x0, x1, serial_executor(), {}, owners.face_corners_in_order());
+    ASSERT_EQ(plain.certified(), ordered.certified()) << "step " << f;
+    certified += plain.certified();
+    for (std::uint32_t n = 0; n < g.bvh.size(); ++n)
+      for (std::uint32_t m : {0u, n / 2, n})
+        ASSERT_EQ(plain.covers(n, m), ordered.covers(n, m)) << "step " << f << " nodes " << n << ", " << m;
+  }
+  EXPECT_GT(certified, 0u);
+}
+
 TEST(SelfCulling, ContourTestsFollowTheMotion) {
   // a square in the xy plane, then the same square with one corner moved across the opposite
   // edge by the end of the step
@@ -441,10 +467,38 @@ TEST(SelfCulling, NormalSignsInLanesAreTheScalarSignsAtEveryLevel) {
     EXPECT_EQ(got[kTriangles], 0xEE) << "written past the last triangle";
     for (std::size_t n = 1; n <= 37; ++n) {
       std::vector<std::uint8_t> part(n + 1, 0xEE);
-      SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids + 7, n, part.data());
-      for (std::size_t t = 0; t < n; ++t)
+      const unsigned shared = SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids + 7, n, part.data());
+      unsigned all = 0x3F;
+      for (std::size_t t = 0; t < n; ++t) {
         ASSERT_EQ(int(part[t]), int(expected[7 + t])) << to_string(k->level) << " n " << n;
+        all &= expected[7 + t];
+      }
       EXPECT_EQ(part[n], 0xEE);
+      // the bits they share, returned, with or without the triangles' own
+      EXPECT_EQ(shared, all) << to_string(k->level) << " n " << n;
+      EXPECT_EQ(SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids + 7, n, nullptr), all);
+    }
+    EXPECT_EQ(SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), ids, 0, nullptr), 0x3Fu);
+    // Runs of triangles that share signs (those with a certain positive z, then with a certain
+    // negative x as well), of every length to past three registers: the shared bits are theirs,
+    // not 0.
+    for (const unsigned want : {1u << 4, (1u << 4) | (2u << 0)}) {
+      std::vector<std::array<std::uint32_t, 3>> same;
+      for (std::size_t t = 0; t < kTriangles; ++t)
+        if ((expected[t] & want) == want) same.push_back(corners[t]);
+      ASSERT_GT(same.size(), 40u);
+      const auto* sids = reinterpret_cast<const std::uint32_t(*)[3]>(same.data());
+      for (std::size_t n = 1; n <= 40; ++n) {
+        unsigned all = 0x3F;
+        for (std::size_t t = 0; t < n; ++t) {
+          const auto& c = same[t];
+          all &= SelfCulling::normal_signs(point(x0, c[0]), point(x0, c[1]), point(x0, c[2]), point(x1, c[0]),
+                                           point(x1, c[1]), point(x1, c[2]));
+        }
+        ASSERT_EQ(all & want, want);
+        EXPECT_EQ(SelfCulling::normal_signs_in_lanes(*k, x0.data(), x1.data(), sids, n, nullptr), all)
+            << to_string(k->level) << " n " << n;
+      }
     }
   }
 }
