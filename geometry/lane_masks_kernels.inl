@@ -691,14 +691,15 @@ unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*
       lane_bits[d][0] = pos & normal;
       lane_bits[d][1] = neg & normal;
     }
-    // A lane is never both certainly positive and certainly negative (with `normal`, each
-    // magnitude is above `tiny`, so the two bounds have opposite signs): its bits are the two
-    // masks' bits as they are, without a branch.
-    const unsigned used = m == 32 ? ~0u : (1u << m) - 1;
+    // the bits that every used lane has (the lanes past m repeat the first triangle)
+    const unsigned used = (1u << m) - 1u;
     for (int d = 0; d < 3; ++d)
       for (int k = 0; k < 2; ++k)
         if ((lane_bits[d][k] & used) != used) shared &= ~(1u << (2 * d + k));
     if (!bits) continue;
+    // A lane is never both certainly positive and certainly negative (with `normal`, each
+    // magnitude is above `tiny`, so the two bounds have opposite signs): its bits are the two
+    // masks' bits as they are, without a branch.
     for (unsigned l = 0; l < m; ++l) {
       unsigned b = 0;
       for (int d = 0; d < 3; ++d) b |= ((lane_bits[d][0] >> l & 1u) | (lane_bits[d][1] >> l & 1u) << 1) << (2 * d);
