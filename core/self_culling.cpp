@@ -361,7 +361,8 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
       const Triangle& t = in_order ? in_order[k] : faces[ids[k]];
       corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
     }
-    signs_[node] = static_cast<std::uint8_t>(normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, nullptr));
+    const unsigned shared = normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, nullptr);
+    signs_[node] = static_cast<std::uint8_t>(shared);
   };
   // The needed leaves' signs: of the leaves under a closed surface (`under_closed`; under one
   // certified this step none is needed) or of those under none.

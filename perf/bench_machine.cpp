@@ -1,10 +1,10 @@
 // How this machine's cores scale, without mccd: the same fixed work on every thread, run on
 // 1, 2, 4, ... threads at once, compute-bound (independent floating-point chains held in
-// registers: perf/harness/cores.h) and cache-bound (each thread sums its own array over and over). A per-thread rate
-// that falls as threads are added (a lower clock with every core busy, a shared cache's
-// bandwidth, a host's other guests) caps every program's speedup there: the ceiling on P
-// threads is P x rate(P) / rate(1). The 16-core figures of bench_core read against it. Then each
-// core alone (perf/harness/cores.h): unequal cores cap a speedup too.
+// registers: perf/harness/cores.h) and cache-bound (each thread sums its own array over and
+// over). A per-thread rate that falls as threads are added (a lower clock with every core
+// busy, a shared cache's bandwidth, a host's other guests) caps every program's speedup there:
+// the ceiling on P threads is P x rate(P) / rate(1). The 16-core figures of bench_core read
+// against it. Then each core alone (perf/harness/cores.h): unequal cores cap a speedup too.
 //   bench_machine [--threads 1,2,4,8,16] [--rounds K] [--kib N]
 #include <algorithm>
 #include <atomic>
@@ -115,8 +115,9 @@ int main(int argc, char** argv) {
       for (int t : threads) {
         if (t == 1) continue;
         const Ceiling c = speedup_ceiling(cores, t);
-        std::printf("ceiling on %d threads from the cores' compute rates: %.2fx over a 1-thread run on the fastest core, "
-                    "%.2fx over one on the slowest\n", t, c.from_fastest, c.from_slowest);
+        std::printf("ceiling on %d threads from the cores' compute rates: %.2fx over a 1-thread run on the fastest "
+                    "core, %.2fx over one on the slowest\n",
+                    t, c.from_fastest, c.from_slowest);
       }
     }
     double keep = 0;
