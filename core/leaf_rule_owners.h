@@ -49,6 +49,11 @@ class LeafOwnership {
   std::uint32_t foreign_corner(std::uint32_t i) const { return foreign_[i]; }
   /// The vertex ids of the edge in `slot`.
   const Edge& edge_ends(std::uint32_t slot) const { return edge_ends_[slot]; }
+  /// edge(), edge_ends() and face_corners() from `slot` on, as arrays (a leaf's, read in a loop
+  /// through a pointer held in a register; `slot` may be one past the last).
+  const std::uint32_t* edges_from(std::uint32_t slot) const { return edges_.data() + slot; }
+  const Edge* edge_ends_from(std::uint32_t slot) const { return edge_ends_.data() + slot; }
+  const Triangle* face_corners_from(std::uint32_t slot) const { return face_corners_.data() + slot; }
   /// The corners of the face in face slot `slot` (the BVH's triangle order): vertex ids, and
   /// vertex slots.
   const Triangle& face_corners(std::uint32_t slot) const { return face_corners_[slot]; }

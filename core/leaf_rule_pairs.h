@@ -142,39 +142,45 @@ class OwnedPairs {
       }
     }
     const LeafOwnership::EndFilter& ends_b = owners_.end_filter(b);  // most edges share no end with b's
+    // B's edges (ids and ends) through pointers held here: the queue's byte fields may alias
+    // anything, so members read through the owners would be read again after every write
+    const std::uint32_t* ids_b = owners_.edges_from(fb);
+    const Edge* ends_at_b = owners_.edge_ends_from(fb);
     std::uint64_t tested = 0;
     for (std::uint64_t left = m.alive_ea; left; left &= left - 1) {
       const std::uint32_t sa = fa + static_cast<unsigned>(std::countr_zero(left));
-      const Edge& x = owners_.edge_ends(sa);
+      const Edge x = owners_.edge_ends(sa);
       std::uint64_t meet = m.edges[sa - fa];
       const std::uint32_t ea = owners_.edge(sa);
-      if (defer) {  // queued as they come, the volumes tested after the filter
+      if (!meet) continue;
+      // every pair written at the queue's end (room for a mask's 64 bits: a population count is
+      // a library call in a portable build), kept by moving the end
+      QueuedPair* end = out.queued.room(64);
+      if (defer) {  // kept unless the edges share an end (no branch on that), volumes tested later
+        const unsigned pending = within | Tests::kVolumesPending;
         for (; meet; meet &= meet - 1) {
-          const std::uint32_t sb = fb + static_cast<unsigned>(std::countr_zero(meet));
-          const Edge& y = owners_.edge_ends(sb);
-          if (shares_end(x, y)) continue;
-          ++tested;
-          out.queued.push_back(Tests::ee_entry(ea, x, owners_.edge(sb), y, within | Tests::kVolumesPending, a, b));
+          const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
+          const bool keep = !shares_end(x, ends_at_b[j]);
+          tested += keep;
+          *end = Tests::ee_entry(ea, x, ids_b[j], ends_at_b[j], pending, a, b);
+          end += keep;
         }
+        out.queued.set_end(end);
         continue;
       }
       if (LeafOwnership::may_share_end(ends_b, x))
         for (std::uint64_t r = meet; r; r &= r - 1) {
           const unsigned j = static_cast<unsigned>(std::countr_zero(r));
-          if (shares_end(x, owners_.edge_ends(fb + j))) meet &= ~(std::uint64_t(1) << j);
+          if (shares_end(x, ends_at_b[j])) meet &= ~(std::uint64_t(1) << j);
         }
       if (!meet) continue;
-      // every pair written at the queue's end (room for a mask's 64 bits: a population count is
-      // a library call in a portable build), kept by moving the end
-      QueuedPair* end = out.queued.room(64);
       Quarters qx;
       swept.edge_quarters_into(sa, qx);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
-        const std::uint32_t sb = fb + j;
         ++tested;
         const unsigned mq = qx.overlap_mask(qb[j]);
-        *end = Tests::ee_entry(ea, x, owners_.edge(sb), owners_.edge_ends(sb), mq, a, b);
+        *end = Tests::ee_entry(ea, x, ids_b[j], ends_at_b[j], mq, a, b);
         end += mq != 0;
       }
       out.queued.set_end(end);
@@ -210,20 +216,21 @@ class OwnedPairs {
         swept.edge_quarters_into(begin + j, q[j]);
       }
     }
+    const std::uint32_t* ids = owners_.edges_from(begin);  // held here, as in find()
+    const Edge* ends = owners_.edge_ends_from(begin);
     std::uint64_t tested = 0;
     for (std::uint64_t left = with_later; left; left &= left - 1) {
       const unsigned i = static_cast<unsigned>(std::countr_zero(left));
       const std::uint32_t sa = begin + i;
       std::uint64_t meet = m.edges[i] & owners_.apart_edges(sa);
       if (!meet) continue;
-      const std::uint32_t ea = owners_.edge(sa);
+      const std::uint32_t ea = ids[i];
       QueuedPair* end = out.queued.room(64);  // as in find()
       if (defer) {
         for (; meet; meet &= meet - 1) {
           ++tested;
-          const std::uint32_t sb = begin + static_cast<unsigned>(std::countr_zero(meet));
-          *end++ = Tests::ee_entry(ea, owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb),
-                                   0xF | Tests::kVolumesPending, leaf, leaf);
+          const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
+          *end++ = Tests::ee_entry(ea, ends[i], ids[j], ends[j], 0xF | Tests::kVolumesPending, leaf, leaf);
         }
         out.queued.set_end(end);
         continue;
@@ -231,10 +238,9 @@ class OwnedPairs {
       const Quarters& qx = q[i];
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
-        const std::uint32_t sb = begin + j;
         ++tested;
         const unsigned mq = qx.overlap_mask(q[j]);
-        *end = Tests::ee_entry(ea, owners_.edge_ends(sa), owners_.edge(sb), owners_.edge_ends(sb), mq, leaf, leaf);
+        *end = Tests::ee_entry(ea, ends[i], ids[j], ends[j], mq, leaf, leaf);
         end += mq != 0;
       }
       out.queued.set_end(end);
@@ -270,6 +276,7 @@ class OwnedPairs {
         face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
       }
     }
+    const Triangle* corners = owners_.face_corners_from(face_slot);  // held here, as in find()
     std::uint64_t tested = 0;
     for (; alive; alive &= alive - 1) {
       const unsigned lane = static_cast<unsigned>(std::countr_zero(alive));
@@ -279,13 +286,15 @@ class OwnedPairs {
       if (!meet) continue;
       // every pair written at the queue's end, as in find()
       QueuedPair* end = out.queued.room(64);
-      if (defer) {
+      if (defer) {  // kept unless the face has the vertex as a corner: no branch on that
+        const unsigned pending = within | Tests::kVolumesPending;
         for (; meet; meet &= meet - 1) {
           const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
-          const Triangle& t = owners_.face_corners(face_slot + k);
-          if (!Self && has_corner(t, v)) continue;
-          ++tested;
-          *end++ = Tests::vf_entry(v, t, faces[k], within | Tests::kVolumesPending, p, q);
+          const Triangle& t = corners[k];
+          const bool keep = Self || !has_corner(t, v);
+          tested += keep;
+          *end = Tests::vf_entry(v, t, faces[k], pending, p, q);
+          end += keep;
         }
         out.queued.set_end(end);
         continue;
@@ -293,7 +302,7 @@ class OwnedPairs {
       const Quarters& vq = swept.vertex_quarters_at(s);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
-        const Triangle& t = owners_.face_corners(face_slot + k);
+        const Triangle& t = corners[k];
         if (!Self && has_corner(t, v)) continue;
         ++tested;
         const unsigned mq = vq.overlap_mask(face_quarters[k]);
