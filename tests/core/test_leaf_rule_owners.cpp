@@ -135,3 +135,32 @@ TEST(LeafOwnership, EndFilterPassesEveryEdgeSharingAnEnd) {
     EXPECT_GT(failed, 0u) << "the filter skips nothing";
   }
 }
+
+// The arrays the leaf pairs read through held pointers (edges_from, edge_ends_from,
+// face_corners_from) are the per-slot tables: every leaf's entries, and the mesh's own edges and
+// face corners behind them; from the end slot on, nothing (the pointer one past the last).
+TEST(LeafOwnership, ArraysFromASlotAreThePerSlotTables) {
+  const TriMesh m = make_sphere_mesh(8, 12);
+  MeshTopology topo(m.num_vertices(), m.faces);
+  BvhTopology bvh(triangle_bounds(m.faces, m.vertices), BvhBuild::Sah, 8);
+  LeafOwnership owners(bvh, topo);
+  std::size_t leaves = 0;
+  for (std::uint32_t n = 0; n < bvh.size(); ++n) {
+    if (!bvh.leaf(n)) continue;
+    ++leaves;
+    const std::uint32_t eb = owners.edge_begin(n), ne = owners.edge_begin(n + 1) - eb;
+    const std::uint32_t* ids = owners.edges_from(eb);
+    const Edge* ends = owners.edge_ends_from(eb);
+    for (std::uint32_t j = 0; j < ne; ++j) {
+      EXPECT_EQ(ids[j], owners.edge(eb + j)) << "leaf " << n << " edge lane " << j;
+      EXPECT_EQ(ends[j], topo.edges()[ids[j]]) << "leaf " << n << " edge lane " << j;
+    }
+    const Triangle* corners = owners.face_corners_from(bvh.leaf_first(n));
+    for (std::uint32_t k = 0; k < bvh.leaf_count(n); ++k)
+      EXPECT_EQ(corners[k], topo.faces()[bvh.leaf_triangles(n)[k]]) << "leaf " << n << " face " << k;
+  }
+  EXPECT_GT(leaves, 1u);
+  const auto last_edge = static_cast<std::uint32_t>(topo.num_edges());
+  EXPECT_EQ(owners.edges_from(last_edge), owners.edges_from(0) + last_edge);
+  EXPECT_EQ(owners.edge_ends_from(last_edge), owners.edge_ends_from(0) + last_edge);
+}
