@@ -152,8 +152,10 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
     if (counters) ++counters->hits;
     return true;
   }
+  bool whole_not_separated = false;
   if (!(d > 0) && path == CcdPath::Fast) {
     const Fast r = fast_decide<Kind>(S, toi);
+    whole_not_separated = r == Fast::Unknown;
     if (r == Fast::Hit) {
       if (counters) ++counters->fast_hits, ++counters->hits;
       return true;
@@ -183,6 +185,7 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
   lp.points = &p;
   lp.root_d = &root;
   lp.ng_d = ng;
+  lp.whole_not_separated = whole_not_separated;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (counters) counters->pieces +=
       (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.wide.budget) + (kCcdPieceBudgetQuad - lp.quad.budget);

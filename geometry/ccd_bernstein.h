@@ -184,7 +184,8 @@ inline T restrict_to(const Bern<N, T>& p, T err, T lo, T hi, Bern<N, T>& out) {
   const T l1 = 1 - lo, h1 = 1 - hi;
   for (int j = 0; j <= N; ++j) {
     T tmp[N + 1];
-    for (int i = 0; i <= N - j; ++i) tmp[i] = row[i];
+    // (the whole row: a copy of fixed length stays in registers, a shorter one became a call)
+    for (int i = 0; i <= N; ++i) tmp[i] = row[i];
     for (int level = 0; level < N - j; ++level)
       for (int i = 0; i < N - j - level; ++i) tmp[i] = l1 * tmp[i] + lo * tmp[i + 1];
     out.c[j] = tmp[0];

@@ -157,6 +157,7 @@ struct LongPass;
 inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, double& toi);
 inline bool touches_at_end(LongPass& lp);
 inline void count_touch(LongPass* lp);
+inline bool whole_not_separated(const LongPass& lp);
 
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
@@ -209,8 +210,10 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       if (r == Outcome::Miss) continue;
       return r;
     }
-    // The separation test is the most expensive one: tried at every third level only.
-    if ((P.depth % 3 == 0 || P.depth >= max_depth - 1) && separated(S, P.lo, P.hi)) continue;
+    // The separation test is the most expensive one: tried at every third level only, and
+    // not again on [0, 1] when the fast path has tried it there.
+    const bool tried = long_pass && whole_not_separated(*long_pass) && P.lo == 0 && P.hi == 1;
+    if ((P.depth % 3 == 0 || P.depth >= max_depth - 1) && !tried && separated(S, P.lo, P.hi)) continue;
     if constexpr (std::is_same_v<T, double>) {
       // Every earlier piece is cleared; with a proved touch at t = 1, the first contact lies
       // in [lo, 1]: report it at lo instead of bisecting further.
@@ -329,7 +332,11 @@ struct LongPass {
   const Piece<double>* root_d = nullptr;
   int ng_d = 0;
   int touch_at_end = -1;
+  // The separation test has failed on all of [0, 1] (the fast path tried it).
+  bool whole_not_separated = false;
 };
+
+inline bool whole_not_separated(const LongPass& lp) { return lp.whole_not_separated; }
 
 inline void count_touch(LongPass* lp) {
   if (lp && lp->counters) ++lp->counters->touches;

@@ -31,6 +31,7 @@
 /// along any path, so it lies within gamma_6 < 6.01 u times the same expression on absolute
 /// values; we take 8 u (normal components, 4 roundings), 12 u (the quadratics, 5) and 16 u
 /// (the determinant filter, 6), which also covers the rounding of the magnitudes, plus kTiny.
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -65,9 +66,12 @@ inline bool share_coordinate(const V3<double>& a, const V3<double>& b, const V3<
          (a.z == b.z && a.z == c.z && a.z == d.z);
 }
 
-// x lies exactly in the plane through a, b, p (not collinear).
+inline bool same_point(const V3<double>& a, const V3<double>& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+// x lies exactly in the plane through a, b, p (not collinear). A point that has not moved
+// (x is a, b or p bit for bit, as for a static or pinned vertex) lies in it without a test.
 inline bool in_plane(const V3<double>& a, const V3<double>& b, const V3<double>& p, const V3<double>& x) {
-  if (share_coordinate(a, b, p, x)) return true;
+  if (same_point(x, p) || same_point(x, a) || same_point(x, b) || share_coordinate(a, b, p, x)) return true;
   const V3<double> B = b - a, C = p - a, D = x - a;
   const double det = dot(B, cross(C, D));
   if (std::fabs(det) > 16 * kU * absdot(B, across(vabs(C), vabs(D))) + kTiny) return false;
@@ -154,8 +158,14 @@ struct PointSegment {
     if (!planar) return -1;
     Bern<2> w;
     if (!changes_sign(w, restrict_to(q, eq, lo, hi, w))) return -1;
-    // w(u) = c0 (1-u)^2 + 2 c1 u (1-u) + c2 u^2 on [0, 1] has an odd number of roots in (0, 1):
-    // bisection on its sign finds one.
+    // w(u) = c0 (1-u)^2 + 2 c1 u (1-u) + c2 u^2 on [0, 1] has one root in (0, 1): the
+    // quadratic formula in its stable form (no cancellation between -B and the root of the
+    // discriminant), bisection on the sign where rounding puts both roots outside [0, 1].
+    const double A = w.c[0] - 2 * w.c[1] + w.c[2], B = 2 * (w.c[1] - w.c[0]), C = w.c[0];
+    const double q = -0.5 * (B + std::copysign(std::sqrt(std::max(0.0, B * B - 4 * A * C)), B));
+    const double u1 = q / A, u2 = C / q;
+    if (u1 >= 0 && u1 <= 1) return lo + u1 * (hi - lo);
+    if (u2 >= 0 && u2 <= 1) return lo + u2 * (hi - lo);
     double a = 0, b = 1;
     const bool neg_first = w.c[0] < 0;
     for (int it = 0; it < 30; ++it) {

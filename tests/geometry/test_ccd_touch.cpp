@@ -296,6 +296,7 @@ TEST(CcdTouch, InPlaneIsTheExactOrientationTestWithOrWithoutASharedCoordinate) {
   for (int i = 0; i < 20000; ++i) {
     mccd::detail::V3<double> a = point(), b = point(), p = point(), x = point();
     if (i % 3 == 0) x.y = b.y = p.y = a.y;  // one coordinate shared by all four
+    if (i % 7 == 1) x = i % 2 ? p : a;      // a point that has not moved: in the plane
     if (mccd::detail::touch::normal_axis(a, b, p) < 0) continue;
     using mccd::detail::touch::vec;
     const bool exact = mccd::detail::exact_orient3d(vec(a), vec(b), vec(p), vec(x)) == 0;
@@ -305,4 +306,44 @@ TEST(CcdTouch, InPlaneIsTheExactOrientationTestWithOrWithoutASharedCoordinate) {
   }
   EXPECT_GT(shared, 1000);
   EXPECT_GT(planar, shared + 100) << "coplanar quadruples in slanted planes too";
+}
+
+TEST(CcdTouch, CrossingEstimatesTheRootOfTheQuadratic) {
+  // The time where the point crosses the segment's line, estimated from the quadratic w_k with
+  // certain opposite end signs (any estimate is sound; a poor one only loses the window): on
+  // random quadratics, near-linear ones and ones with a second root just outside the piece,
+  // the estimate lies within 2^-30 of the piece's width of the root found by bisection in
+  // long double, and inside the piece.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> coef(-1, 1), unit(0, 1);
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    mccd::detail::touch::PointSegment ps;
+    ps.planar = true;
+    const double r = unit(rng), s2 = i % 3 == 0 ? 1 + 1e-6 * unit(rng) : (i % 3 == 1 ? 1e9 : 1 + 3 * unit(rng));
+    const double k = coef(rng);  // k (u - r)(u - s2) in Bernstein form: c0, c1, c2
+    ps.q = {{k * r * s2, k * (r * s2 - (r + s2) / 2), k * (1 - r) * (1 - s2)}};
+    if (!(std::fabs(ps.q.c[0]) > 1e-12 && std::fabs(ps.q.c[2]) > 1e-12) || (ps.q.c[0] < 0) == (ps.q.c[2] < 0)) continue;
+    const double lo = i % 2 ? 0.0 : 0.25, hi = i % 2 ? 1.0 : 0.5;
+    const double t = ps.crossing(lo, hi);
+    mccd::detail::Bern<2> part;  // the quadratic over [lo, hi]
+    const double e = mccd::detail::restrict_to(ps.q, 0.0, lo, hi, part);
+    if (!mccd::detail::touch::changes_sign(part, e)) {
+      EXPECT_EQ(t, -1) << i;  // no certain sign change on this piece: no estimate
+      continue;
+    }
+    long double a = 0, b = 1;
+    const bool neg_first = part.c[0] < 0;
+    for (int it = 0; it < 60; ++it) {
+      const long double u = (a + b) / 2, v = 1 - u;
+      const long double val = part.c[0] * v * v + 2 * (long double)part.c[1] * u * v + part.c[2] * u * u;
+      ((val < 0) == neg_first ? a : b) = u;
+    }
+    const double root = lo + double(a) * (hi - lo);
+    ASSERT_GE(t, lo) << i;
+    ASSERT_LE(t, hi) << i;
+    EXPECT_NEAR(t, root, 0x1p-30 * (hi - lo)) << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 5000);
 }
