@@ -15,9 +15,11 @@
 //      g_i is certainly positive is a certified contact (toi on the grid of 2^-32 below it).
 //      Every root rejected: no contact. Where the roots cannot be isolated (the cubic within
 //      its error bound at t = 0 or t = 1, as for primitives moving in one plane), one
-//      separation test over [0, 1]. Anything undecided goes to the search, so the answer is
-//      the search's answer or a better one (the fast path never reports a pair that does
-//      not touch). It decides nearly every true contact of a real step and most pairs past (b);
+//      separation test over [0, 1]. Then one try of the search's jump to a touch (below) on
+//      [0, 1], with the cubic and the separation test clearing what lies before the window.
+//      Anything undecided goes to the search, so the answer is the search's answer or a
+//      better one (the fast path never reports a pair that does not touch). It decides
+//      nearly every true contact of a real step and most pairs past (b);
 //  (c) a depth-first search over dyadic time pieces, earliest first. On each piece the cubic
 //      and the inside functions g_i (VF: the barycentric coordinates times |n|^2; EE: the
 //      two segment parameters and their complements times |da x db|^2), all quartics in
@@ -153,6 +155,9 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
     return true;
   }
   bool whole_not_separated = false;
+  Piece<double> root;
+  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f, root.ef = S.ef;
+  TouchCertificate touch(S);
   if (!(d > 0) && path == CcdPath::Fast) {
     const Fast r = fast_decide<Kind>(S, toi);
     whole_not_separated = r == Fast::Unknown;
@@ -164,10 +169,16 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
       if (counters) ++counters->fast_misses;
       return false;
     }
+    // A touch in one plane (a vertex through an edge of the face, an edge end through the
+    // other edge), where the fast path finds the cubic's root but cannot sign the inside
+    // functions there: the search's first jump to a touch, before the inside functions are
+    // set up, with the cubic and the separation alone clearing what lies before it.
+    if (touch_in_window(S, touch, root, 0, 0.0, 1.0, toi)) {
+      if (counters) ++counters->touches, ++counters->hits;
+      return true;
+    }
   }
   double t = 0;
-  Piece<double> root;
-  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f;
   const int ng = setup_inside(S, root);
   // Touching exactly at t = 0 (exact predicate on the input doubles): toi = 0 at once. Only
   // tried when the floating-point values at t = 0 allow it (coplanar and inside within
@@ -186,6 +197,7 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
   lp.root_d = &root;
   lp.ng_d = ng;
   lp.whole_not_separated = whole_not_separated;
+  lp.touch = &touch;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (counters) counters->pieces +=
       (kCcdPieceBudget - budget) + (kCcdPieceBudgetLong - lp.wide.budget) + (kCcdPieceBudgetQuad - lp.quad.budget);

@@ -147,6 +147,22 @@ inline bool clear_before(const Setup<double>& S, const Piece<double>& root, int 
   return separated(S, lo, a);
 }
 
+// A jump to a touch on [lo, hi] (for primitives moving in one plane, where the cubic clears
+// nothing): a window [a, a + 2^-20] with a certified touch, and [lo, a] cleared in one piece by
+// the tests of any piece (`root` with `ng` inside functions; 0: the cubic and the separation
+// alone). No contact lies before a, so toi = a is not late and at most 2^-20 early.
+inline bool touch_in_window(const Setup<double>& S, TouchCertificate& certificate, const Piece<double>& root, int ng,
+                            double lo, double hi, double& toi) {
+  for (int c = 0; c < certificate.num_pairs(); ++c) {
+    const double a = certificate.window_from(c, lo, hi);
+    if (a >= 0 && clear_before(S, root, ng, lo, a)) {
+      toi = a;
+      return true;
+    }
+  }
+  return false;
+}
+
 // The long-double pass has no touch certificate (its pieces come from the double pass's).
 struct NoTouchCertificate {
   template <class Setup>
@@ -158,6 +174,9 @@ inline Outcome resolve_long(LongPass& lp, double lo, double hi, int depth, doubl
 inline bool touches_at_end(LongPass& lp);
 inline void count_touch(LongPass* lp);
 inline bool whole_not_separated(const LongPass& lp);
+// The query's certificate, when the caller made one (its pairs prepared once), else `own`.
+inline TouchCertificate& certificate_of(LongPass* lp, TouchCertificate& own);
+inline NoTouchCertificate& certificate_of(LongPass*, NoTouchCertificate& own) { return own; }
 
 template <class T>
 Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, int ng, int max_depth, int& budget,
@@ -166,7 +185,8 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
   int top = 0;
   stack[top++] = start;
   const bool use_inside = !(S.d > 0);
-  [[maybe_unused]] std::conditional_t<std::is_same_v<T, double>, TouchCertificate, NoTouchCertificate> certificate(S);
+  [[maybe_unused]] std::conditional_t<std::is_same_v<T, double>, TouchCertificate, NoTouchCertificate> own(S);
+  [[maybe_unused]] auto& certificate = certificate_of(long_pass, own);
   while (top > 0) {
     const Piece<T> P = stack[--top];
     --budget;
@@ -223,20 +243,12 @@ Outcome search(const Setup<T>& S, const Piece<T>& root, const Piece<T>& start, i
       }
     }
     if constexpr (std::is_same_v<T, double>) {
-      // A jump to a touch (for primitives moving in one plane, where the cubic clears
-      // nothing): a window [a, a + 2^-20] with a certified touch, and [P.lo, a] cleared in one
-      // piece by the same tests as any piece. Every earlier piece is cleared, so toi = a is
-      // not late and at most 2^-20 early. Tried where a jump to a root would be; a pair
-      // without a planar certificate costs its exact part once per query.
-      if (use_inside && P.depth < kCcdTouchDepth && P.depth % 4 == 0) {
-        for (int c = 0; c < certificate.num_pairs(); ++c) {
-          const double a = certificate.window_from(c, P.lo, P.hi);
-          if (a >= 0 && clear_before(S, root, ng, P.lo, a)) {
-            count_touch(long_pass);
-            toi = a;
-            return Outcome::Hit;
-          }
-        }
+      // A jump to a touch, tried where a jump to a root would be; a pair without a planar
+      // certificate costs its exact part once per query.
+      if (use_inside && P.depth < kCcdTouchDepth && P.depth % 4 == 0 &&
+          touch_in_window(S, certificate, root, ng, P.lo, P.hi, toi)) {
+        count_touch(long_pass);
+        return Outcome::Hit;
       }
     }
     if constexpr (std::is_same_v<T, double>) {
@@ -334,7 +346,12 @@ struct LongPass {
   int touch_at_end = -1;
   // The separation test has failed on all of [0, 1] (the fast path tried it).
   bool whole_not_separated = false;
+  TouchCertificate* touch = nullptr;  ///< the query's certificate (nullptr: the search makes its own)
 };
+
+inline TouchCertificate& certificate_of(LongPass* lp, TouchCertificate& own) {
+  return lp && lp->touch ? *lp->touch : own;
+}
 
 inline bool whole_not_separated(const LongPass& lp) { return lp.whole_not_separated; }
 

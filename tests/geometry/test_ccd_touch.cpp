@@ -14,6 +14,7 @@
 #include <string>
 
 #include <mccd/geometry/ccd.h>
+#include <mccd/geometry/ccd_detail.h>
 #include <mccd/geometry/ccd_touch.h>
 #include <mccd/parallel/scene.h>
 #include "fixtures/scenes.h"
@@ -281,6 +282,46 @@ TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
   std::cout << "[ folding cloth ] " << checked << " contacts checked exactly, " << touches << " touches certified\n";
   EXPECT_GT(checked, 100u);
   EXPECT_GT(touches, 50u);  // the certificate's paths are exercised
+}
+
+TEST(CcdTouchCertificate, FastPathJumpsToTheTouchAsTheSearchWould) {
+  // The folding cloth's contacts again: after the fast path, one jump to a touch without the
+  // inside functions decides most of them (no search piece); each answer is the search-only
+  // path's, its time of impact within 2^-20 of it and not late against the exact reference.
+  const AnimatedScene s = make_folding_cloth(16, 9);
+  Scene scene(s.meshes);
+  std::size_t checked = 0, early = 0;
+  for (std::size_t f = 1; f < s.frames.size(); ++f) {
+    const Positions &x0 = s.frames[f - 1][0], &x1 = s.frames[f][0];
+    const StepResult r = scene.advance(std::vector<PositionsView>(s.frames[f].begin(), s.frames[f].end()));
+    for (const Contact& c : r.contacts) {
+      const bool vf = c.kind == ContactKind::VertexFace;
+      std::array<std::uint32_t, 4> v{};
+      if (vf) {
+        const Triangle& t = s.meshes[0].faces[c.b];
+        v = {c.a, t[0], t[1], t[2]};
+      } else {
+        v = {c.a_vertices[0], c.a_vertices[1], c.b_vertices[0], c.b_vertices[1]};
+      }
+      CcdPoints p;
+      for (int i = 0; i < 4; ++i) p.start[i] = x0.point(v[i]), p.end[i] = x1.point(v[i]);
+      const auto kind = vf ? detail::CcdKind::VertexFace : detail::CcdKind::EdgeEdge;
+      CcdCounters counters;
+      double toi = -1, toi_s = -1;
+      const bool hit = detail::ccd_run(kind, p, toi, {}, &counters, detail::CcdPath::Fast);
+      const bool hit_s = detail::ccd_run(kind, p, toi_s, {}, nullptr, detail::CcdPath::SearchOnly);
+      const std::string what = "step " + std::to_string(f - 1) + (vf ? " VF " : " EE ") + std::to_string(c.a) + "/" +
+                               std::to_string(c.b);
+      ASSERT_TRUE(hit && hit_s) << what;
+      EXPECT_NEAR(toi, toi_s, 0x1p-20) << what;
+      const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
+      EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << what << ": late";
+      early += counters.touches == 1 && counters.pieces == 0;
+      ++checked;
+    }
+  }
+  std::cout << "[ folding cloth ] " << checked << " contacts, " << early << " decided by the fast path's jump\n";
+  EXPECT_GT(early, checked / 3);
 }
 
 TEST(CcdTouch, InPlaneIsTheExactOrientationTestWithOrWithoutASharedCoordinate) {
