@@ -121,7 +121,8 @@ void SelfCulling::star_signs(const LaneKernels& lanes, const double* x0, const d
 }
 
 bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                                 const Positions& x1, const Executor& ex, const RayMeets& ray_meets) const {
+                                 const Positions& x1, const Executor& ex, const RayMeets& ray_meets,
+                                 const Triangle* leaf_corners) const {
   const std::uint32_t node = closed_[k];
   // c(t): the mean of the component's vertices at each end (any point would do; this one is
   // inside a star-shaped body).
@@ -152,33 +153,56 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
   // values bit for bit).
   const LaneKernels& lanes = lane_kernels();
   const double c0[3] = {m0[0], m0[1], m0[2]}, c1[3] = {m1[0], m1[1], m1[2]};
-  ex.dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
-    constexpr unsigned kBatch = 64;
-    std::uint32_t corners[kBatch + BvhTopology::kMaxLeaf][3];
-    std::int8_t signs[kBatch + BvhTopology::kMaxLeaf];
-    unsigned queued = 0;
-    int s = 2;
-    auto flush = [&] {
-      star_signs(lanes, x0.data(), x1.data(), corners, queued, c0, c1, signs);
-      for (unsigned q = 0; q < queued && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
-      queued = 0;
-    };
-    for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
-      if (!bvh.leaf(i)) continue;
-      const std::uint32_t* ids = bvh.leaf_triangles(i);
-      for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
-        const Triangle& t = faces[ids[q]];
-        corners[queued][0] = t[0], corners[queued][1] = t[1], corners[queued][2] = t[2];
-        ++queued;
-      }
-      if (queued >= kBatch) flush();
-    }
-    if (queued && s != 0) flush();
-    if (s == 2) return;  // no leaf in this block
+  auto merge_sign = [&common](int s) {
     int expected = 2;
     if (!common.compare_exchange_strong(expected, s, std::memory_order_relaxed) && expected != s)
       common.store(0, std::memory_order_relaxed);
-  });
+  };
+  if (leaf_corners) {
+    // The subtree's triangles are one range of the leaf order, their corners side by side
+    // there: the lanes read them in place, a block at a time.
+    std::uint32_t last = node;
+    while (!bvh.leaf(last)) last = bvh.right(last);
+    const std::uint32_t begin = bvh.leaf_first(first), count = bvh.leaf_first(last) + bvh.leaf_count(last) - begin;
+    static_assert(sizeof(Triangle) == 3 * sizeof(std::uint32_t), "a triangle's corners as three ids in a row");
+    const auto* corners = reinterpret_cast<const std::uint32_t(*)[3]>(leaf_corners + begin);
+    ex.dynamic_for(count, 4096, [&](std::size_t b, std::size_t e) {
+      constexpr std::size_t kBatch = 256;
+      std::int8_t signs[kBatch];
+      int s = 2;
+      for (std::size_t at = b; at < e && s != 0; at += kBatch) {
+        const std::size_t n = std::min(kBatch, e - at);
+        star_signs(lanes, x0.data(), x1.data(), corners + at, n, c0, c1, signs);
+        for (std::size_t q = 0; q < n && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
+      }
+      if (s != 2) merge_sign(s);
+    });
+  } else {
+    ex.dynamic_for(end - node, 2048, [&](std::size_t b, std::size_t e) {
+      constexpr unsigned kBatch = 64;
+      std::uint32_t corners[kBatch + BvhTopology::kMaxLeaf][3];
+      std::int8_t signs[kBatch + BvhTopology::kMaxLeaf];
+      unsigned queued = 0;
+      int s = 2;
+      auto flush = [&] {
+        star_signs(lanes, x0.data(), x1.data(), corners, queued, c0, c1, signs);
+        for (unsigned q = 0; q < queued && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
+        queued = 0;
+      };
+      for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
+        if (!bvh.leaf(i)) continue;
+        const std::uint32_t* ids = bvh.leaf_triangles(i);
+        for (std::uint32_t q = 0; q < bvh.leaf_count(i); ++q) {
+          const Triangle& t = faces[ids[q]];
+          corners[queued][0] = t[0], corners[queued][1] = t[1], corners[queued][2] = t[2];
+          ++queued;
+        }
+        if (queued >= kBatch) flush();
+      }
+      if (queued && s != 0) flush();
+      if (s != 2) merge_sign(s);  // (2: no leaf in this block)
+    });
+  }
   const int s = common.load(std::memory_order_relaxed);
   if (s != 1 && s != -1) return false;
   // The triangles whose cones hold the ray, among those of the nodes whose volumes may meet it
@@ -343,7 +367,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
           --o.skip;
           continue;
         }
-        closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets);
+        closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets, leaf_corners);
         o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
         o.skip = (1 << o.failures) - 1;
       }

@@ -151,9 +151,11 @@ class SelfCulling {
   std::vector<Backoff> closed_backoff_;  ///< per index of closed_
   void find_closed(const BvhTopology& bvh, const SceneTopology& scene, const std::vector<std::uint8_t>& regular,
                    const std::vector<std::uint32_t>& component);
-  /// The central-projection certificate of closed_[k] for the step.
+  /// The central-projection certificate of closed_[k] for the step (`leaf_corners` as in
+  /// certify()).
   bool certify_closed(std::size_t k, const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0,
-                      const Positions& x1, const Executor& ex, const RayMeets& ray_meets) const;
+                      const Positions& x1, const Executor& ex, const RayMeets& ray_meets,
+                      const Triangle* leaf_corners) const;
   std::vector<std::uint8_t> signs_;  ///< per node, this step: normal_signs of all its triangles
   std::vector<std::uint32_t> top_;   ///< per node, this step: the certified node above, or kNone
   std::vector<std::uint8_t> signed_;  ///< per node: its signs are needed (an inner disk above it)

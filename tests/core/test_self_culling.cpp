@@ -290,27 +290,35 @@ TEST(SelfCulling, NormalSignsEqualTheAxisByAxisFormulaAndHoldAtSampledTimes) {
 
 TEST(SelfCulling, CornersInLeafOrderCertifyTheSame) {
   // certify() reading each triangle's corners from a copy in the leaves' order (the leaf
-  // rule's LeafOwnership::face_corners) against reading them through the mesh: the same nodes
-  // covered, by the same certified node, step after step of the generated cloth.
-  const AnimatedScene a = make_scene("cloth", 8, 4);
-  Built g(a.meshes, 21);
-  const LeafOwnership owners(g.bvh, g.scene.topology());
-  ASSERT_NE(owners.face_corners_in_order(), nullptr);
-  SelfCulling plain(g.bvh, g.scene), ordered(g.bvh, g.scene);
-  ASSERT_GT(plain.num_disks(), 0u);
-  std::uint64_t certified = 0;
-  for (std::size_t f = 0; f + 1 < a.frames.size(); ++f) {
-    const Positions& x0 = a.frames[f][0];
-    const Positions& x1 = a.frames[f + 1][0];
-    plain.certify(g.bvh, g.scene.topology(), x0, x1);
-    ordered.certify(g.bvh, g.scene.topology(), x0, x1, serial_executor(), {}, owners.face_corners_in_order());
-    ASSERT_EQ(plain.certified(), ordered.certified()) << "step " << f;
-    certified += plain.certified();
-    for (std::uint32_t n = 0; n < g.bvh.size(); ++n)
-      for (std::uint32_t m : {0u, n / 2, n})
-        ASSERT_EQ(plain.covers(n, m), ordered.covers(n, m)) << "step " << f << " nodes " << n << ", " << m;
+  // rule's LeafOwnership::face_corners; a closed surface's read in place there) against
+  // reading them through the mesh: the same nodes covered, by the same certified node, step
+  // after step of the generated cloth (disks) and of the spheres (closed surfaces).
+  for (const char* name : {"cloth", "spheres"}) {
+    const AnimatedScene a = make_scene(name, 8, 4);
+    Built g(a.meshes, 21);
+    const LeafOwnership owners(g.bvh, g.scene.topology());
+    ASSERT_NE(owners.face_corners_in_order(), nullptr);
+    SelfCulling plain(g.bvh, g.scene), ordered(g.bvh, g.scene);
+    ASSERT_GT(plain.num_disks() + plain.num_closed(), 0u) << name;
+    std::uint64_t certified = 0;
+    for (std::size_t f = 0; f + 1 < a.frames.size(); ++f) {
+      Positions x0(g.scene.topology().num_vertices()), x1(x0.rows());  // every mesh's, in scene order
+      std::size_t at = 0;
+      for (std::size_t m = 0; m < a.meshes.size(); ++m)
+        for (std::size_t v = 0; v < a.frames[f][m].rows(); ++v, ++at) {
+          x0.set_point(at, a.frames[f][m].point(v));
+          x1.set_point(at, a.frames[f + 1][m].point(v));
+        }
+      plain.certify(g.bvh, g.scene.topology(), x0, x1);
+      ordered.certify(g.bvh, g.scene.topology(), x0, x1, serial_executor(), {}, owners.face_corners_in_order());
+      ASSERT_EQ(plain.certified(), ordered.certified()) << name << " step " << f;
+      certified += plain.certified();
+      for (std::uint32_t n = 0; n < g.bvh.size(); ++n)
+        for (std::uint32_t m : {0u, n / 2, n})
+          ASSERT_EQ(plain.covers(n, m), ordered.covers(n, m)) << name << " step " << f << " nodes " << n << ", " << m;
+    }
+    EXPECT_GT(certified, 0u) << name;
   }
-  EXPECT_GT(certified, 0u);
 }
 
 TEST(SelfCulling, ContourTestsFollowTheMotion) {
