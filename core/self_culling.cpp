@@ -377,13 +377,17 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   auto leaf_signs = [&](std::uint32_t node) {
     // The leaf's triangles in vector lanes (LaneKernels::normal_signs: normal_signs' values
     // bit for bit), every axis: the signs they all share are the same as axis by axis.
-    const std::uint32_t* ids = bvh.leaf_triangles(node);
     const std::uint32_t count = bvh.leaf_count(node);
-    std::uint32_t corners[BvhTopology::kMaxLeaf][3];
-    const Triangle* in_order = leaf_corners ? leaf_corners + bvh.leaf_first(node) : nullptr;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const Triangle& t = in_order ? in_order[k] : faces[ids[k]];
-      corners[k][0] = t[0], corners[k][1] = t[1], corners[k][2] = t[2];
+    std::uint32_t copied[BvhTopology::kMaxLeaf][3];
+    const std::uint32_t(*corners)[3] = copied;
+    if (leaf_corners) {  // read in place (certify_closed's layout)
+      corners = reinterpret_cast<const std::uint32_t(*)[3]>(leaf_corners + bvh.leaf_first(node));
+    } else {
+      const std::uint32_t* ids = bvh.leaf_triangles(node);
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const Triangle& t = faces[ids[k]];
+        copied[k][0] = t[0], copied[k][1] = t[1], copied[k][2] = t[2];
+      }
     }
     const unsigned shared = normal_signs_in_lanes(lanes, x0.data(), x1.data(), corners, count, nullptr);
     signs_[node] = static_cast<std::uint8_t>(shared);
