@@ -105,6 +105,29 @@ struct alignas(32) QuarterDop {
       }
 #endif
   }
+  /// Grows to contain at(0), ..., at(n - 1) (each a QuarterDop), merged in that order as
+  /// merge() would: the lower bounds then the upper ones, each over all n, with the bounds
+  /// held in registers (merge() reads and writes this volume's for each).
+  template <class At>
+  void merge_each(std::uint32_t n, const At& at) {
+#if defined(__SSE2__)
+    __m128 acc[Slabs];
+    for (int s = 0; s < Slabs; ++s) acc[s] = _mm_load_ps(lo(s));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const QuarterDop& o = at(i);
+      for (int s = 0; s < Slabs; ++s) acc[s] = _mm_min_ps(_mm_load_ps(o.lo(s)), acc[s]);
+    }
+    for (int s = 0; s < Slabs; ++s) _mm_store_ps(lo(s), acc[s]);
+    for (int s = 0; s < Slabs; ++s) acc[s] = _mm_load_ps(hi(s));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const QuarterDop& o = at(i);
+      for (int s = 0; s < Slabs; ++s) acc[s] = _mm_max_ps(_mm_load_ps(o.hi(s)), acc[s]);
+    }
+    for (int s = 0; s < Slabs; ++s) _mm_store_ps(hi(s), acc[s]);
+#else
+    for (std::uint32_t i = 0; i < n; ++i) merge(at(i));
+#endif
+  }
   /// Becomes the merge of `a` and `b`.
   void merge_of(const QuarterDop& a, const QuarterDop& b) {
 #if defined(__SSE2__)

@@ -103,10 +103,13 @@ QuarterVolume<BV> leaf_volume(const LeafOwnership& owners, const SweptVolumes<BV
     for (std::size_t line = 0; line < sizeof(QuarterVolume<BV>); line += 64) __builtin_prefetch(p + line);
   }
   QuarterVolume<BV> v = QuarterVolume<BV>::empty();
-  for (std::uint32_t s = owners.vertex_begin(node); s != owners.vertex_begin(node + 1); ++s)
-    v.merge(swept.vertex_quarters_at(s));
-  for (std::uint32_t i = owners.foreign_begin(node); i != owners.foreign_begin(node + 1); ++i)
-    v.merge(swept.vertex_quarters_at(owners.foreign_corner(i)));
+  const std::uint32_t vb = owners.vertex_begin(node), fb = owners.foreign_begin(node);
+  v.merge_each(owners.vertex_begin(node + 1) - vb, [&](std::uint32_t i) -> const QuarterVolume<BV>& {
+    return swept.vertex_quarters_at(vb + i);
+  });
+  v.merge_each(owners.foreign_begin(node + 1) - fb, [&](std::uint32_t i) -> const QuarterVolume<BV>& {
+    return swept.vertex_quarters_at(owners.foreign_corner(fb + i));
+  });
   return v;
 }
 

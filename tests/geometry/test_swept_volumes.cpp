@@ -85,6 +85,26 @@ TEST(QuarterVolumes, MaskMergeAndWholeEqualThePerQuarterDefinitions) {
   EXPECT_EQ(QuarterDop<9>::empty().overlap_mask(QuarterDop<9>::empty()), 0u);
 }
 
+TEST(QuarterVolumes, MergeEachIsOneMergeAfterAnother) {
+  // merge_each (the bounds held in registers) against merge() item by item, bit for bit,
+  // including NaN bounds (whose outcome depends on the operands' order) and empty lists.
+  std::mt19937 rng(8);
+  for (int i = 0; i < 500; ++i) {
+    std::vector<QuarterDop<9>> items;
+    const int n = static_cast<int>(rng() % 24);
+    for (int k = 0; k < n; ++k) {
+      items.push_back(random_quarters<9>(rng));
+      if (rng() % 16 == 0) items.back().lo(static_cast<int>(rng() % 9))[rng() % 4] = std::nanf("");
+      if (rng() % 16 == 0) items.back().hi(static_cast<int>(rng() % 9))[rng() % 4] = std::nanf("");
+    }
+    QuarterDop<9> one = i % 3 ? random_quarters<9>(rng) : QuarterDop<9>::empty(), each = one;
+    for (const auto& q : items) one.merge(q);
+    each.merge_each(static_cast<std::uint32_t>(items.size()),
+                    [&](std::uint32_t k) -> const QuarterDop<9>& { return items[k]; });
+    ASSERT_EQ(std::memcmp(&one, &each, sizeof one), 0) << i;
+  }
+}
+
 template <class BV>
 void check_paths_are_contained(double scale, double min_distance) {
   // Two triangles sharing an edge, moving on random segments; every vertex's exact position at
