@@ -249,21 +249,23 @@ TEST(CcdTouchCertificate, JumpsToATouchInOnePlaneWithoutBisecting) {
   }
 }
 
-TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
-  // The folding cloth, whose halves cross along grid lines (touches in one plane, decided by
-  // the certificate and its windows): every contact of every step, checked against the exact
-  // reference on its own four points: a true contact, its time of impact not late.
+namespace {
+
+// The folding cloth (its halves cross along grid lines) stepped through: each contact with its
+// four points at the step's start and end goes to `visit(step, contact, points)`. Returns the
+// touches the steps certified.
+template <class Visit>
+std::uint64_t folding_cloth_contacts(const Visit& visit) {
   const AnimatedScene s = make_folding_cloth(16, 9);
   Scene scene(s.meshes);
-  std::size_t checked = 0, touches = 0;
+  std::uint64_t touches = 0;
   for (std::size_t f = 1; f < s.frames.size(); ++f) {
     const Positions &x0 = s.frames[f - 1][0], &x1 = s.frames[f][0];
     const StepResult r = scene.advance(std::vector<PositionsView>(s.frames[f].begin(), s.frames[f].end()));
     touches += r.stats.vf_ccd.touches + r.stats.ee_ccd.touches;
     for (const Contact& c : r.contacts) {
-      const bool vf = c.kind == ContactKind::VertexFace;
       std::array<std::uint32_t, 4> v{};
-      if (vf) {
+      if (c.kind == ContactKind::VertexFace) {
         const Triangle& t = s.meshes[0].faces[c.b];
         v = {c.a, t[0], t[1], t[2]};
       } else {
@@ -271,14 +273,31 @@ TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
       }
       CcdPoints p;
       for (int i = 0; i < 4; ++i) p.start[i] = x0.point(v[i]), p.end[i] = x1.point(v[i]);
-      const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
-      const std::string what = "step " + std::to_string(f - 1) + (vf ? " VF " : " EE ") + std::to_string(c.a) + "/" +
-                               std::to_string(c.b) + " toi " + std::to_string(c.toi);
-      ASSERT_TRUE(ref.hit) << what << ": no contact in the exact reference";
-      ASSERT_TRUE(test::time_not_after(c.toi, ref.toi)) << what << ": late";
-      ++checked;
+      visit(f - 1, c, p);
     }
   }
+  return touches;
+}
+
+std::string contact_name(std::size_t step, const Contact& c) {
+  return "step " + std::to_string(step) + (c.kind == ContactKind::VertexFace ? " VF " : " EE ") +
+         std::to_string(c.a) + "/" + std::to_string(c.b) + " toi " + std::to_string(c.toi);
+}
+
+}  // namespace
+
+TEST(CcdTouchCertificate, FoldingClothContactsAreTrueAndNotLate) {
+  // The folding cloth's steps (touches in one plane, decided by the certificate and its
+  // windows): every contact of every step, checked against the exact reference on its own four
+  // points: a true contact, its time of impact not late.
+  std::size_t checked = 0;
+  const std::uint64_t touches = folding_cloth_contacts([&](std::size_t step, const Contact& c, const CcdPoints& p) {
+    const bool vf = c.kind == ContactKind::VertexFace;
+    const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
+    ASSERT_TRUE(ref.hit) << contact_name(step, c) << ": no contact in the exact reference";
+    ASSERT_TRUE(test::time_not_after(c.toi, ref.toi)) << contact_name(step, c) << ": late";
+    ++checked;
+  });
   std::cout << "[ folding cloth ] " << checked << " contacts checked exactly, " << touches << " touches certified\n";
   EXPECT_GT(checked, 100u);
   EXPECT_GT(touches, 50u);  // the certificate's paths are exercised
@@ -288,38 +307,21 @@ TEST(CcdTouchCertificate, FastPathJumpsToTheTouchAsTheSearchWould) {
   // The folding cloth's contacts again: after the fast path, one jump to a touch without the
   // inside functions decides most of them (no search piece); each answer is the search-only
   // path's, its time of impact within 2^-20 of it and not late against the exact reference.
-  const AnimatedScene s = make_folding_cloth(16, 9);
-  Scene scene(s.meshes);
   std::size_t checked = 0, early = 0;
-  for (std::size_t f = 1; f < s.frames.size(); ++f) {
-    const Positions &x0 = s.frames[f - 1][0], &x1 = s.frames[f][0];
-    const StepResult r = scene.advance(std::vector<PositionsView>(s.frames[f].begin(), s.frames[f].end()));
-    for (const Contact& c : r.contacts) {
-      const bool vf = c.kind == ContactKind::VertexFace;
-      std::array<std::uint32_t, 4> v{};
-      if (vf) {
-        const Triangle& t = s.meshes[0].faces[c.b];
-        v = {c.a, t[0], t[1], t[2]};
-      } else {
-        v = {c.a_vertices[0], c.a_vertices[1], c.b_vertices[0], c.b_vertices[1]};
-      }
-      CcdPoints p;
-      for (int i = 0; i < 4; ++i) p.start[i] = x0.point(v[i]), p.end[i] = x1.point(v[i]);
-      const auto kind = vf ? detail::CcdKind::VertexFace : detail::CcdKind::EdgeEdge;
-      CcdCounters counters;
-      double toi = -1, toi_s = -1;
-      const bool hit = detail::ccd_run(kind, p, toi, {}, &counters, detail::CcdPath::Fast);
-      const bool hit_s = detail::ccd_run(kind, p, toi_s, {}, nullptr, detail::CcdPath::SearchOnly);
-      const std::string what = "step " + std::to_string(f - 1) + (vf ? " VF " : " EE ") + std::to_string(c.a) + "/" +
-                               std::to_string(c.b);
-      ASSERT_TRUE(hit && hit_s) << what;
-      EXPECT_NEAR(toi, toi_s, 0x1p-20) << what;
-      const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
-      EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << what << ": late";
-      early += counters.touches == 1 && counters.pieces == 0;
-      ++checked;
-    }
-  }
+  folding_cloth_contacts([&](std::size_t step, const Contact& c, const CcdPoints& p) {
+    const bool vf = c.kind == ContactKind::VertexFace;
+    const auto kind = vf ? detail::CcdKind::VertexFace : detail::CcdKind::EdgeEdge;
+    CcdCounters counters;
+    double toi = -1, toi_s = -1;
+    const bool hit = detail::ccd_run(kind, p, toi, {}, &counters, detail::CcdPath::Fast);
+    const bool hit_s = detail::ccd_run(kind, p, toi_s, {}, nullptr, detail::CcdPath::SearchOnly);
+    ASSERT_TRUE(hit && hit_s) << contact_name(step, c);
+    EXPECT_NEAR(toi, toi_s, 0x1p-20) << contact_name(step, c);
+    const test::ExactResult ref = vf ? test::exact_vertex_face(p) : test::exact_edge_edge(p);
+    EXPECT_TRUE(test::time_not_after(toi, ref.toi)) << contact_name(step, c) << ": late";
+    early += counters.touches == 1 && counters.pieces == 0;
+    ++checked;
+  });
   std::cout << "[ folding cloth ] " << checked << " contacts, " << early << " decided by the fast path's jump\n";
   EXPECT_GT(early, checked / 3);
 }
