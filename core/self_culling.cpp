@@ -8,6 +8,8 @@
 #include <atomic>
 #include <cmath>
 
+#include <mccd/geometry/assert.h>
+
 namespace mccd::detail {
 
 namespace {
@@ -164,6 +166,12 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
     std::uint32_t last = node;
     while (!bvh.leaf(last)) last = bvh.right(last);
     const std::uint32_t begin = bvh.leaf_first(first), count = bvh.leaf_first(last) + bvh.leaf_count(last) - begin;
+    MCCD_ASSERT(([&] {
+                  std::uint32_t sum = 0;
+                  for (std::uint32_t i = node; i != end; ++i) sum += bvh.leaf(i) ? bvh.leaf_count(i) : 0;
+                  return sum == count;
+                }()),
+                "a subtree's triangles are one range of the leaf order");
     static_assert(sizeof(Triangle) == 3 * sizeof(std::uint32_t), "a triangle's corners as three ids in a row");
     const auto* corners = reinterpret_cast<const std::uint32_t(*)[3]>(leaf_corners + begin);
     ex.dynamic_for(count, 4096, [&](std::size_t b, std::size_t e) {

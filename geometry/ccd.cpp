@@ -154,13 +154,10 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
     if (counters) ++counters->hits;
     return true;
   }
-  bool whole_not_separated = false;
-  Piece<double> root;
-  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f, root.ef = S.ef;
-  TouchCertificate touch(S);
+  // Undecided by the fast path, which tried the separation test on all of [0, 1].
+  bool fast_undecided = false;
   if (!(d > 0) && path == CcdPath::Fast) {
     const Fast r = fast_decide<Kind>(S, toi);
-    whole_not_separated = r == Fast::Unknown;
     if (r == Fast::Hit) {
       if (counters) ++counters->fast_hits, ++counters->hits;
       return true;
@@ -169,14 +166,18 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
       if (counters) ++counters->fast_misses;
       return false;
     }
-    // A touch in one plane (a vertex through an edge of the face, an edge end through the
-    // other edge), where the fast path finds the cubic's root but cannot sign the inside
-    // functions there: the search's first jump to a touch, before the inside functions are
-    // set up, with the cubic and the separation alone clearing what lies before it.
-    if (touch_in_window(S, touch, root, 0, 0.0, 1.0, toi)) {
-      if (counters) ++counters->touches, ++counters->hits;
-      return true;
-    }
+    fast_undecided = true;
+  }
+  Piece<double> root;
+  root.lo = 0, root.hi = 1, root.depth = 0, root.f = S.f, root.ef = S.ef;
+  TouchCertificate touch(S);
+  // A touch in one plane (a vertex through an edge of the face, an edge end through the other
+  // edge), where the fast path finds the cubic's root but cannot sign the inside functions
+  // there: the search's first jump to a touch, before the inside functions are set up, with
+  // the cubic and the separation test alone clearing what lies before it.
+  if (fast_undecided && touch_in_window(S, touch, root, 0, 0.0, 1.0, toi)) {
+    if (counters) ++counters->touches, ++counters->hits;
+    return true;
   }
   double t = 0;
   const int ng = setup_inside(S, root);
@@ -196,7 +197,7 @@ bool finish(const CcdPoints& p, double d, Setup<double>& S, double& toi, CcdCoun
   lp.points = &p;
   lp.root_d = &root;
   lp.ng_d = ng;
-  lp.whole_not_separated = whole_not_separated;
+  lp.whole_not_separated = fast_undecided;
   lp.touch = &touch;
   const Outcome r = search(S, root, root, ng, kCcdMaxDepth, budget, t, &lp);
   if (counters) counters->pieces +=
