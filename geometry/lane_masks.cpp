@@ -108,8 +108,8 @@ struct DOps {
   static V exponent(V a) { return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & 0x7ff0000000000000ull); }
   static V sqrt(V a) { return std::sqrt(a); }
   static V copysign(V a, V b) { return std::copysign(a, b); }
-  /// base[at[i]] in lane i
-  static V gather(const double* base, const std::int32_t* at) { return base[at[0]]; }
+  /// base[at[i]] in lane i (`at` aligned to the register's lanes of 64-bit offsets)
+  static V gather(const double* base, const std::int64_t* at) { return base[at[0]]; }
 };
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
 #include "lane_masks_kernels.inl"
@@ -174,7 +174,7 @@ struct DOps {
     const V sign = _mm_set1_pd(-0.0);
     return _mm_or_pd(_mm_andnot_pd(sign, a), _mm_and_pd(sign, b));
   }
-  static V gather(const double* base, const std::int32_t* at) { return _mm_set_pd(base[at[1]], base[at[0]]); }
+  static V gather(const double* base, const std::int64_t* at) { return _mm_set_pd(base[at[1]], base[at[0]]); }
 };
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
 #include "lane_masks_kernels.inl"
@@ -242,8 +242,8 @@ struct DOps {
     const V sign = _mm256_set1_pd(-0.0);
     return _mm256_or_pd(_mm256_andnot_pd(sign, a), _mm256_and_pd(sign, b));
   }
-  static V gather(const double* base, const std::int32_t* at) {
-    return _mm256_i32gather_pd(base, _mm_load_si128(reinterpret_cast<const __m128i*>(at)), 8);
+  static V gather(const double* base, const std::int64_t* at) {
+    return _mm256_i64gather_pd(base, _mm256_load_si256(reinterpret_cast<const __m256i*>(at)), 8);
   }
 };
 /// LaneKernels::vertex_quarters's operations (geometry/vertex_quarters_kernel.inl).
@@ -252,7 +252,7 @@ struct VOps {
   using D = DOps::V;  // the double operations are DOps'
   using F = __m128;
   using I = __m128i;
-  static D gather(const double* base, const std::int32_t* at) { return DOps::gather(base, at); }
+  static D gather(const double* base, const std::int64_t* at) { return DOps::gather(base, at); }
   static F cvt(D a) { return _mm256_cvtpd_ps(a); }
   static F fset(float x) { return _mm_set1_ps(x); }
   static F fadd(F a, F b) { return _mm_add_ps(a, b); }
@@ -364,8 +364,8 @@ struct DOps {
     return _mm512_castsi512_pd(_mm512_or_si512(_mm512_andnot_si512(sign, _mm512_castpd_si512(a)),
                                                _mm512_and_si512(sign, _mm512_castpd_si512(b))));
   }
-  static V gather(const double* base, const std::int32_t* at) {
-    return _mm512_i32gather_pd(_mm256_load_si256(reinterpret_cast<const __m256i*>(at)), base, 8);
+  static V gather(const double* base, const std::int64_t* at) {
+    return _mm512_i64gather_pd(_mm512_load_si512(at), base, 8);
   }
 };
 /// LaneKernels::vertex_quarters's operations (geometry/vertex_quarters_kernel.inl).
@@ -374,7 +374,7 @@ struct VOps {
   using D = DOps::V;  // the double operations are DOps'
   using F = __m256;
   using I = __m256i;
-  static D gather(const double* base, const std::int32_t* at) { return DOps::gather(base, at); }
+  static D gather(const double* base, const std::int64_t* at) { return DOps::gather(base, at); }
   static F cvt(D a) { return _mm512_cvtpd_ps(a); }
   static F fset(float x) { return _mm256_set1_ps(x); }
   static F fadd(F a, F b) { return _mm256_add_ps(a, b); }

@@ -163,40 +163,20 @@ inline DOps::V amax3(const P3& a) { return DOps::max(DOps::max(DOps::abs(a.z), D
 inline P3 lerp3(const P3& a0, const P3& a1, DOps::V t1, DOps::V tau) { return add3(scale3(a0, t1), scale3(a1, tau)); }
 
 /// Points ids[i][k] of up to W items (ids[0..m), the rest repeating the first) at t = 0 and
-/// t = 1, lane i: each coordinate of a point in one gather, through 32-bit offsets (3 id +
-/// coordinate); ids too large for those take copies through a buffer.
+/// t = 1, lane i: each coordinate of a point in one gather (offsets 3 id + coordinate).
 template <unsigned K>
 inline void gather_points(const double* x0, const double* x1, const std::uint32_t (*ids)[K], unsigned m,
                           P3 (&p)[2][K]) {
   constexpr unsigned W = DOps::kLanes;
-  alignas(64) std::int32_t at[K][W];
-  std::uint32_t top = 0;
+  alignas(64) std::int64_t at[K][W];
   for (unsigned i = 0; i < W; ++i) {
     const std::uint32_t* q = ids[i < m ? i : 0];
-    for (unsigned k = 0; k < K; ++k) {
-      top |= q[k];
-      at[k][i] = static_cast<std::int32_t>(3 * q[k]);
-    }
+    for (unsigned k = 0; k < K; ++k) at[k][i] = 3 * std::int64_t(q[k]);
   }
-  if (top < (1u << 29)) {
-    for (unsigned k = 0; k < K; ++k) {
-      p[0][k] = P3{DOps::gather(x0, at[k]), DOps::gather(x0 + 1, at[k]), DOps::gather(x0 + 2, at[k])};
-      p[1][k] = P3{DOps::gather(x1, at[k]), DOps::gather(x1 + 1, at[k]), DOps::gather(x1 + 2, at[k])};
-    }
-    return;
+  for (unsigned k = 0; k < K; ++k) {
+    p[0][k] = P3{DOps::gather(x0, at[k]), DOps::gather(x0 + 1, at[k]), DOps::gather(x0 + 2, at[k])};
+    p[1][k] = P3{DOps::gather(x1, at[k]), DOps::gather(x1 + 1, at[k]), DOps::gather(x1 + 2, at[k])};
   }
-  alignas(64) double buf[2][K][3][W];
-  for (unsigned i = 0; i < W; ++i) {
-    const std::uint32_t* q = ids[i < m ? i : 0];
-    for (unsigned k = 0; k < K; ++k)
-      for (unsigned c = 0; c < 3; ++c) {
-        buf[0][k][c][i] = x0[3 * std::size_t(q[k]) + c];
-        buf[1][k][c][i] = x1[3 * std::size_t(q[k]) + c];
-      }
-  }
-  for (unsigned t = 0; t < 2; ++t)
-    for (unsigned k = 0; k < K; ++k)
-      p[t][k] = P3{DOps::load(buf[t][k][0]), DOps::load(buf[t][k][1]), DOps::load(buf[t][k][2])};
 }
 
 /// The points of up to W queries (ids[0..m), the rest repeating the first) at t = 0 and t = 1.
