@@ -55,14 +55,15 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   ws_self += o.ws_self;
   ws_branch += o.ws_branch;
   ws_join += o.ws_join;
+  ws_input += o.ws_input;
   return *this;
 }
 
 double StepStats::predicted_seconds(double threads) const {
-  const double staged = ws_update.work + ws_refit.work + ws_branch.work + ws_join.work;
+  const double staged = ws_update.work + ws_refit.work + ws_branch.work + ws_join.work + ws_input.work;
   const double outside = t_total > staged ? t_total - staged : 0.0;
   return outside + ws_update.predict(threads) + ws_refit.predict(threads) + ws_branch.predict(threads) +
-         ws_join.predict(threads);
+         ws_join.predict(threads) + ws_input.predict(threads);
 }
 
 }  // namespace mccd

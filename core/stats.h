@@ -80,8 +80,12 @@ struct StepStats {
   /// search and the self stage together (their spans add when they run one after the other,
   /// the longer counts when they run beside each other in the flow graph). Zero otherwise.
   WorkSpan ws_update, ws_refit, ws_search, ws_self, ws_branch, ws_join;
+  /// With SceneOptions::work_span: the step's positions checked and copied in before the
+  /// stages (parallel chunks; part of t_total, in no stage's time).
+  WorkSpan ws_input;
   /// The step's predicted seconds on `threads` threads from the work and span measured (best
-  /// from one thread): every stage's prediction plus the time outside the stages (serial).
+  /// from one thread): every stage's prediction and the input's plus the time outside them
+  /// (serial).
   double predicted_seconds(double threads) const;
 
   /// Adds every count and time of `o` (the method is kept).

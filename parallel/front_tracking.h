@@ -22,11 +22,13 @@ namespace mccd::detail {
 
 /// Front nodes per block: enough work to amortise a task, small enough that sprouting blocks
 /// balance across threads and that small scenes get more blocks than kSerialBlocks (with
-/// leaves of up to 21 triangles a front holds few nodes).
-inline constexpr std::size_t kFrontBlock = 128;
+/// leaves of up to 21 triangles a front holds few nodes). Blocks are cache-ordered, so the
+/// costly leaf pairs of a contact region fall into the same few blocks: the longest block is
+/// a step's critical path on many threads, and shorter blocks shorten it.
+inline constexpr std::size_t kFrontBlock = 64;
 /// Fronts of at most this many blocks are tracked on the calling thread (block by block, as
-/// in parallel): a parallel loop costs more in waking threads than it saves there.
-inline constexpr std::size_t kSerialBlocks = 4;
+/// in parallel): a parallel loop costs more in waking threads than it saves there (512 nodes).
+inline constexpr std::size_t kSerialBlocks = 8;
 
 /// Tracks every block of `front` into blocks[0, n) and returns n; the front itself is advanced
 /// by the caller from those outputs (BvttFront::advance); sprouting is BvttFront::track. What a

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include <oneapi/tbb/parallel_invoke.h>
@@ -99,54 +100,76 @@ struct Scene::Impl {
   Positions& end() { return dop ? dop->end() : aabb->end(); }
 
   /// Vertices per chunk of the positions' check and copy (each step reads every position
-  /// twice: serial passes were a millisecond a step at 100K vertices, most of what a 16-thread
-  /// step spent outside the engine).
-  static constexpr std::size_t kPositionsGrain = 8192;
+  /// once: serial passes were a millisecond a step at 100K vertices, most of what a 16-thread
+  /// step spent outside the engine; a chunk is short next to a 16-thread step).
+  static constexpr std::size_t kPositionsGrain = 2048;
 
-  /// Whether every coordinate of `v` is finite (checked in parallel chunks; the serial
-  /// validate_positions() then names the first one that is not).
-  static bool all_finite(const PositionsView& v) {
-    std::atomic<bool> finite{true};
-    detail::dynamic_for(v.rows(), kPositionsGrain, [&](std::size_t b, std::size_t e) {
-      bool ok = true;
-      if (v.is_dense_double()) {
-        const double* p = static_cast<const double*>(v.data()) + 3 * b;
-        // x - x is 0 for a finite x and NaN otherwise: one comparison per coordinate, no branch.
-        for (std::size_t i = 0; i < 3 * (e - b); ++i) ok &= (p[i] - p[i] == 0.0);
-      } else {
-        for (std::size_t i = b; i < e; ++i)
-          for (int k = 0; k < 3; ++k) ok &= std::isfinite(v(i, k));
-      }
-      if (!ok) finite.store(false, std::memory_order_relaxed);
-    });
-    return finite.load(std::memory_order_relaxed);
+  /// Whether every coordinate of the `n` doubles at p is finite. A double is not finite when
+  /// its exponent bits are all ones: adding one at the exponent's lowest bit then carries into
+  /// the sign bit. Integer operations the compiler puts in vector lanes, with no branch.
+  static bool all_finite(const double* p, std::size_t n) {
+    constexpr std::uint64_t kExponent = 0x7ff0000000000000ULL, kLowest = 0x0010000000000000ULL;
+    std::uint64_t carries = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint64_t bits;
+      std::memcpy(&bits, p + i, sizeof bits);
+      carries |= (bits & kExponent) + kLowest;
+    }
+    return carries >> 63 == 0;
   }
 
-  /// Throws naming the first of `views` that is not fit for this scene (the number of arrays,
-  /// a mesh's vertex count or columns, a coordinate that is not finite, a static mesh moved).
-  /// Runs in the scene's arena.
-  void check(const std::vector<PositionsView>& views, const char* which) {
+  /// Checks `views` (`which`: the argument, for errors) and copies them into `dst` (global ids),
+  /// converting float to double, in parallel chunks in the scene's arena: each chunk is copied,
+  /// then checked where it lies in cache. Throws naming the first fault of the first mesh that
+  /// is not fit for this scene (the number of arrays, a mesh's vertex count or columns, a
+  /// coordinate that is not finite, a static mesh moved); `dst` is then the scene's scratch,
+  /// rewritten in full by the next step, and nothing else has changed. With `same_as`: returns
+  /// whether every copied position is bit for bit the one there (a static mesh's never change).
+  /// `ws` (nullptr: not measured): the pass's work and span.
+  bool take_in(const std::vector<PositionsView>& views, const char* which, Positions& dst,
+               const Positions* same_as = nullptr, WorkSpan* ws = nullptr) {
     if (views.size() != meshes.size())
       throw Error(std::string(which) + ": " + std::to_string(views.size()) + " position arrays for " +
                   std::to_string(meshes.size()) + " meshes");
+    auto what = [&](std::size_t m) { return std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")"; };
+    std::atomic<bool> same{same_as != nullptr};
     for (std::size_t m = 0; m < views.size(); ++m) {
-      const std::string what = std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")";
-      if (!topo->mesh_options(m).is_static) {
-        const PositionsView& v = views[m];
-        // The shape first (cheap, and the finiteness pass needs it), then the coordinates.
-        validate_positions_shape(v, meshes[m].num_vertices(), what);
-        if (!in_arena([&] { return all_finite(v); }))
-          validate_positions(v, meshes[m].num_vertices(), what);  // throws, naming the first fault
+      const PositionsView& v = views[m];
+      if (topo->mesh_options(m).is_static) {  // no positions, or its own, unchanged
+        if (v.rows() == 0) continue;
+        validate_positions(v, meshes[m].num_vertices(), what(m));
+        for (std::size_t i = 0; i < v.rows(); ++i)
+          if (v.point(i) != meshes[m].vertices.point(i))
+            throw Error(what(m) + ": the mesh is static, but vertex " + std::to_string(i) +
+                        " differs from its initial position (give an empty PositionsView, or the same positions)");
         continue;
       }
-      // A static mesh: no positions, or its own, unchanged.
-      if (views[m].rows() == 0) continue;
-      validate_positions(views[m], meshes[m].num_vertices(), what);
-      for (std::size_t v = 0; v < views[m].rows(); ++v)
-        if (views[m].point(v) != meshes[m].vertices.point(v))
-          throw Error(what + ": the mesh is static, but vertex " + std::to_string(v) +
-                      " differs from its initial position (give an empty PositionsView, or the same positions)");
+      validate_positions_shape(v, meshes[m].num_vertices(), what(m));  // cheap, and the pass needs it
+      double* out = dst.data() + 3 * topo->vertex_offset(m);
+      const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(m) : nullptr;
+      std::atomic<bool> finite{true};
+      in_arena([&] {
+        detail::WorkSpanRecorder recorder;
+        const detail::StageClock clock(ws ? &recorder : nullptr);
+        detail::dynamic_for(v.rows(), kPositionsGrain, [&](std::size_t b, std::size_t e) {
+          if (v.is_dense_double()) {
+            std::memcpy(out + 3 * b, static_cast<const double*>(v.data()) + 3 * b, 3 * (e - b) * sizeof(double));
+          } else {
+            for (std::size_t i = b; i < e; ++i)
+              for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
+          }
+          if (!all_finite(out + 3 * b, 3 * (e - b))) finite.store(false, std::memory_order_relaxed);
+          if (ref && same.load(std::memory_order_relaxed) &&
+              std::memcmp(out + 3 * b, ref + 3 * b, 3 * (e - b) * sizeof(double)) != 0)
+            same.store(false, std::memory_order_relaxed);
+        });
+        if (ws) *ws += clock.work_span(clock.seconds());
+      });
+      // A float converts to an infinite double only when it is infinite itself.
+      if (!finite.load(std::memory_order_relaxed))
+        validate_positions(v, meshes[m].num_vertices(), what(m));  // throws, naming the first fault
     }
+    return same.load(std::memory_order_relaxed);
   }
 
   static Method checked(std::optional<Method> method, Method fallback) {
@@ -157,38 +180,11 @@ struct Scene::Impl {
     return m;
   }
 
-  /// Copies the views into `dst` (global ids), converting float to double, in parallel chunks
-  /// in the scene's arena. With `same_as`: returns whether every copied position is bit for
-  /// bit the one there (each chunk compared as it is copied; a static mesh's never change).
-  bool load(const std::vector<PositionsView>& views, Positions& dst, const Positions* same_as = nullptr) {
-    std::atomic<bool> same{same_as != nullptr};
-    in_arena([&] {
-      for (std::size_t m = 0; m < views.size(); ++m) {
-        if (topo->mesh_options(m).is_static) continue;  // its positions never change
-        const PositionsView& v = views[m];
-        double* out = dst.data() + 3 * topo->vertex_offset(m);
-        const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(m) : nullptr;
-        detail::dynamic_for(v.rows(), kPositionsGrain, [&](std::size_t b, std::size_t e) {
-          if (v.is_dense_double()) {
-            std::memcpy(out + 3 * b, static_cast<const double*>(v.data()) + 3 * b, 3 * (e - b) * sizeof(double));
-          } else {
-            for (std::size_t i = b; i < e; ++i)
-              for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
-          }
-          if (ref && same.load(std::memory_order_relaxed) &&
-              std::memcmp(out + 3 * b, ref + 3 * b, 3 * (e - b) * sizeof(double)) != 0)
-            same.store(false, std::memory_order_relaxed);
-        });
-      }
-    });
-    return same.load(std::memory_order_relaxed);
-  }
-
   /// `continues`: the step starts where the last one ended (Stepper::step). `into` (nullptr:
   /// none): a result whose contact list's storage the step's result takes over (Stepper::step),
-  /// left empty when the engine fails.
-  StepResult run(Method method, Clock::time_point t0, detail::StepKind kind = detail::StepKind::Full,
-                 bool continues = false, StepResult* into = nullptr) {
+  /// left empty when the engine fails. `input`: take_in()'s work and span, for the stats.
+  StepResult run(Method method, Clock::time_point t0, detail::StepKind kind, bool continues, StepResult* into,
+                 const WorkSpan& input) {
     StepResult r;
     std::vector<Contact>* storage = into ? &into->contacts : nullptr;
     try {
@@ -204,6 +200,7 @@ struct Scene::Impl {
       if (into) *into = StepResult{};
       throw;
     }
+    r.stats.ws_input = input;
     r.stats.t_total = std::chrono::duration<double>(Clock::now() - t0).count();
     return r;
   }
@@ -220,11 +217,11 @@ StepResult Scene::Impl::full_step(const std::vector<PositionsView>& start, const
   const auto t0 = Clock::now();
   StepGuard guard(busy);
   const Method m = checked(method, options.method);
-  check(start, "step start");
-  check(end, "step end");
-  const bool continues = load(start, this->start(), &last_end);
-  load(end, this->end());
-  StepResult r = run(m, t0, detail::StepKind::Full, continues, into);
+  WorkSpan input;
+  WorkSpan* ws = options.work_span ? &input : nullptr;
+  const bool continues = take_in(start, "step start", this->start(), &last_end, ws);
+  take_in(end, "step end", this->end(), nullptr, ws);
+  StepResult r = run(m, t0, detail::StepKind::Full, continues, into, input);
   std::swap(last_end.xyz(), this->end().xyz());  // end() is reloaded by every step
   return r;
 }
@@ -234,12 +231,12 @@ StepResult Scene::Impl::advance(const std::vector<PositionsView>& next, std::opt
   const auto t0 = Clock::now();
   StepGuard guard(busy);
   const Method m = checked(method, options.method);
-  check(next, "advance");
-  load(next, end());
+  WorkSpan input;
+  take_in(next, "advance", end(), nullptr, options.work_span ? &input : nullptr);
   std::swap(last_end.xyz(), start().xyz());
   StepResult r;
   try {
-    r = run(m, t0, detail::StepKind::Full, true, into);  // it starts where the last step ended
+    r = run(m, t0, detail::StepKind::Full, true, into, input);  // it starts where the last step ended
   } catch (...) {
     std::swap(last_end.xyz(), start().xyz());  // the last end stays the last end
     throw;
@@ -270,11 +267,11 @@ StepResult Scene::Impl::query(const std::vector<PositionsView>& start, const std
                               detail::StepKind kind, StepStats* stats) {
   const auto t0 = Clock::now();
   StepGuard guard(busy);
-  check(start, "query start");
-  check(end, "query end");
-  load(start, this->start());
-  load(end, this->end());
-  StepResult r = run(options.method, t0, kind);
+  WorkSpan input;
+  WorkSpan* ws = options.work_span ? &input : nullptr;
+  take_in(start, "query start", this->start(), nullptr, ws);
+  take_in(end, "query end", this->end(), nullptr, ws);
+  StepResult r = run(options.method, t0, kind, false, nullptr, input);
   if (stats) *stats = r.stats;
   return r;
 }

@@ -23,9 +23,13 @@
 
 namespace mccd::detail {
 
-/// Vertices per chunk of the update's loops: a 64th of the scene's, from 256 to 2048 (a small
-/// scene still gives 16 threads several chunks each; a large one keeps its chunks long).
-inline std::size_t vertex_grain(std::size_t vertices) { return std::clamp<std::size_t>(vertices / 64, 256, 2048); }
+/// Vertices per chunk of the update's loops: a 256th of the scene's, from 256 to 2048 (a small
+/// scene still gives 16 threads several chunks each; a large one keeps its chunks long, and
+/// its longest chunk stays a small part of the step's critical path on 16 threads). A multiple
+/// of 64: the vector kernel's groups of slots (SweptVolumes::update_vertex_slots_keeping).
+inline std::size_t vertex_grain(std::size_t vertices) {
+  return std::clamp<std::size_t>(vertices / 256, 256, 2048) / 64 * 64;
+}
 
 /// The volumes of every vertex (edges' and faces' are merged from their vertices' when
 /// needed), in storage order (SweptVolumes::update_vertex_slots_keeping). `fixed` (per vertex
@@ -58,8 +62,9 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
 
 /// The box of x0 and x1 together: each chunk of vertices' own box in parallel, then merged in
 /// chunk order (the box one serial pass gives; a serial pass was most of the stage's span).
+/// Chunks short enough that the longest is a small part of the stage's span on many threads.
 inline Bounds3 step_bounds(const Positions& x0, const Positions& x1, std::vector<Bounds3>& chunks) {
-  constexpr std::size_t kChunk = 8192;
+  constexpr std::size_t kChunk = 2048;
   const std::size_t n = x0.rows(), nc = (n + kChunk - 1) / kChunk;
   chunks.resize(nc);
   for_each_index(

@@ -212,7 +212,8 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
   if (any_ws) {
     o << "\n## Work and span\n\nEach method three times on 1 thread with its stages' work and span measured "
          "(every task of every\nparallel loop timed, nested loops and invokes at every depth; the search and the self "
-         "stage as one branch;\neach stage's least work and span of the three). Predicted ms/frame on P threads: the "
+         "stage as one branch;\neach stage's least work and span of the three; positions in: the step's positions "
+         "checked and copied\nin before the stages). Predicted ms/frame on P threads: the "
          "time outside the\nstages plus, per stage, span + (work - span) / P; beside it the measured median (error = "
          "predicted /\nmeasured - 1). Memory bandwidth and scheduling costs are not in the model. Last: the same prediction\n"
          "scaled to the measured 2-thread median (measured at 2 x predicted at P / predicted at 2): the instrumented\n"
@@ -224,7 +225,8 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
       const double k = 1.0 / std::max(v.counts.intervals, 1);
       const std::pair<const char*, WorkSpan> stages[] = {
           {"update", s.ws_update}, {"refit", s.ws_refit}, {"search", s.ws_search},
-          {"self", s.ws_self},     {"search + self", s.ws_branch}, {"join", s.ws_join}};
+          {"self", s.ws_self},     {"search + self", s.ws_branch}, {"join", s.ws_join},
+          {"positions in", s.ws_input}};
       for (const auto& [name, ws] : stages)
         o << "| " << v.scene << " | " << to_string(v.method) << " | " << name << " | " << num(1e3 * ws.work * k, 3)
           << " | " << num(1e3 * ws.span * k, 3) << " | " << num(ws.span > 0 ? ws.work / ws.span : NAN, 1) << " |\n";

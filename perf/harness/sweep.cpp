@@ -116,6 +116,7 @@ std::vector<RunRecord> sweep_workload(const Workload& w, const SweepOptions& opt
         least(best.sum.ws_self, r.sum.ws_self);
         least(best.sum.ws_branch, r.sum.ws_branch);
         least(best.sum.ws_join, r.sum.ws_join);
+        least(best.sum.ws_input, r.sum.ws_input);
         best.wall_ms = std::min(best.wall_ms, r.wall_ms);
       }
     }

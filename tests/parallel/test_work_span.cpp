@@ -54,6 +54,12 @@ TEST(WorkSpan, OneThreadWorkIsTheStageTimeAndContactsDoNotChange) {
     EXPECT_DOUBLE_EQ(st.ws_branch.span, st.ws_search.span + st.ws_self.span);
     EXPECT_EQ(rb.stats.ws_search.work, 0.0);  // off: nothing measured
     EXPECT_EQ(rb.stats.ws_branch.span, 0.0);
+    EXPECT_EQ(rb.stats.ws_input.work, 0.0);
+    // the positions taken in: measured, inside the step's time, never a stage's
+    EXPECT_GT(st.ws_input.work, 0.0);
+    EXPECT_LE(st.ws_input.span, st.ws_input.work);
+    EXPECT_LE(st.ws_input.work + st.ws_update.work + st.ws_refit.work + st.ws_branch.work + st.ws_join.work,
+              st.t_total * (1 + 1e-9));
     // on one thread the prediction for one thread is the step's own time
     EXPECT_NEAR(st.predicted_seconds(1), st.t_total, 1e-9 + 1e-9 * st.t_total);
     EXPECT_LE(st.predicted_seconds(2), st.predicted_seconds(1) + 1e-12);
@@ -77,6 +83,8 @@ TEST(WorkSpan, FlowGraphBranchSpanIsTheLongerOfSearchAndSelf) {
     EXPECT_GE(st.ws_search.work, st.ws_search.span);
     // every task of a loop is at most the loop: the span never exceeds the stage's wall time
     EXPECT_LE(st.ws_search.span, st.t_front * 1.2 + 2e-4);
+    // 5,041 vertices taken in as three chunks: work beyond the span (each chunk a task)
+    EXPECT_LT(st.ws_input.span, st.ws_input.work) << "step " << f;
   }
 }
 

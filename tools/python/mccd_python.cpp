@@ -335,7 +335,8 @@ py::dict stats_dict(const StepStats& s) {
   d["t_total"] = s.t_total;
   const std::pair<const char*, const WorkSpan*> ws[] = {{"ws_update", &s.ws_update}, {"ws_refit", &s.ws_refit},
                                                         {"ws_search", &s.ws_search}, {"ws_self", &s.ws_self},
-                                                        {"ws_branch", &s.ws_branch}, {"ws_join", &s.ws_join}};
+                                                        {"ws_branch", &s.ws_branch}, {"ws_join", &s.ws_join},
+                                                        {"ws_input", &s.ws_input}};
   for (const auto& [name, w] : ws) d[name] = py::dict("work"_a = w->work, "span"_a = w->span);
   return d;
 }

@@ -218,7 +218,7 @@ def test_stats_carry_every_counter_and_the_work_and_span_when_asked():
         assert key in plain.stats
     assert plain.stats["vf_contacts"] + plain.stats["ee_contacts"] == len(plain)
     assert set(plain.stats["vf_ccd"]) >= {"queries", "hits", "fallbacks"}
-    stages = ("ws_update", "ws_refit", "ws_search", "ws_self", "ws_branch", "ws_join")
+    stages = ("ws_update", "ws_refit", "ws_search", "ws_self", "ws_branch", "ws_join", "ws_input")
     assert all(plain.stats[s] == {"work": 0.0, "span": 0.0} for s in stages)
     assert measured.stats["ws_search"]["work"] > 0
     assert all(0 <= measured.stats[s]["span"] <= measured.stats[s]["work"] + 1e-9 for s in stages)
