@@ -1,10 +1,12 @@
 #include <mccd/core/front.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace mccd::detail {
 
-void BvttFront::build(WorkerOutputs& pieces) {
+void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
   // A counting sort by first node (stable: the traversal order is kept among nodes of one
   // first node), straight from the pieces in piece order; linear in the front and the BVH.
   std::uint32_t max_a = 0;
@@ -19,11 +21,14 @@ void BvttFront::build(WorkerOutputs& pieces) {
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   nodes_.resize(n);
   populate_pages(nodes_.data(), n * sizeof(NodePair));  // written in full, in no order: backed at once
-  for (WorkerOutput& o : pieces) {
+  for (WorkerOutput& o : pieces)
     for (const NodePair& p : o.front) nodes_[start[p.a]++] = p;
-    o.front = std::vector<NodePair>();  // the pieces are not kept
-  }
+  // The pieces are not kept: thousands of small arrays, released in parallel.
+  ex.dynamic_for(pieces.size(), 256, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) pieces[i].front = std::vector<NodePair>();
+  });
   next_ = LargeVector<NodePair>();
+  cuts_.clear();  // no counts yet: fixed blocks
   valid_ = true;
   sprouted_since_build_ = invalidated_since_build_ = 0;
 }
@@ -53,10 +58,68 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
       std::copy(blocks[b].front.begin(), blocks[b].front.end(), next_.begin() + static_cast<std::ptrdiff_t>(at[b]));
   });
   nodes_.swap(next_);
+  cut(blocks, at);
   const double L = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
   if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||
       static_cast<double>(invalidated_since_build_) > invalid_ratio * L)
     valid_ = false;  // equations 3-4
+}
+
+double BvttFront::work_of(const StepStats& s) {
+  // In units of about one feature pair's box test; a front node's volume test and a leaf
+  // pair's set-up cost a few, an elementary test about a hundred.
+  return 4.0 * double(s.volume_tests) + 48.0 * double(s.leaf_pairs) + double(s.feature_box_tests) +
+         3.0 * double(s.vf_filtered + s.ee_filtered) + 80.0 * double(s.vf_tests + s.ee_tests) +
+         4.0 * double(s.sprouted);
+}
+
+void BvttFront::cut(const WorkerOutputs& blocks, const std::vector<std::size_t>& at) {
+  cuts_.clear();
+  const std::size_t n = nodes_.size(), parts = at.size() - 1;
+  if (n == 0 || n > std::numeric_limits<std::uint32_t>::max()) return;  // fixed blocks
+  constexpr double kNodeWork = 4.0;  // every node: at least its volume test
+  double total = 0;
+  for (std::size_t b = 0; b < parts; ++b) total += work_of(blocks[b].stats) + kNodeWork * double(at[b + 1] - at[b]);
+  const double target = total / double((n + block_nodes_ - 1) / block_nodes_);
+  const std::size_t longest = 4 * block_nodes_;
+  cuts_.push_back(0);
+  std::size_t first = 0;  // the current block's first node
+  double work = 0;        // the current block's work so far
+  // nodes [i, end) of `each` work apiece join the blocks, cut where a block reaches the target
+  // or its most nodes (invariant between runs: work < target, fewer than `longest` nodes)
+  auto run = [&](std::size_t i, std::size_t end, double each) {
+    while (i < end) {
+      const double short_of = (target - work) / each;
+      const std::size_t by_work =
+          short_of >= double(end - i) ? end - i : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(short_of)));
+      const std::size_t take = std::min({by_work, first + longest - i, end - i});
+      i += take;
+      work += double(take) * each;
+      if (work >= target || i - first >= longest) {
+        cuts_.push_back(static_cast<std::uint32_t>(i));
+        first = i;
+        work = 0;
+      }
+    }
+  };
+  for (std::size_t b = 0; b < parts; ++b) {
+    const std::size_t size = at[b + 1] - at[b];
+    if (size == 0) continue;
+    const std::vector<CostlyNode>& costly = blocks[b].costly;
+    double rest = work_of(blocks[b].stats);
+    for (const CostlyNode& c : costly) rest -= double(c.work);
+    const std::size_t plain = size - costly.size();
+    const double each = (plain > 0 ? std::max(rest, 0.0) / double(plain) : 0.0) + kNodeWork;
+    std::size_t i = at[b];
+    for (const CostlyNode& c : costly) {
+      MCCD_ASSERT(at[b] + c.at >= i && c.at < size, "costly nodes out of order");
+      run(i, at[b] + c.at, each);
+      run(at[b] + c.at, at[b] + c.at + 1, double(c.work) + kNodeWork);
+      i = at[b] + c.at + 1;
+    }
+    run(i, at[b + 1], each);
+  }
+  if (first < n) cuts_.push_back(static_cast<std::uint32_t>(n));
 }
 
 std::size_t BvttFront::cap(WorkerOutputs& units, std::size_t max_bytes) {

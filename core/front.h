@@ -23,27 +23,42 @@ class BvttFront {
   bool needs_build() const { return !valid_; }
   const LargeVector<NodePair>& nodes() const { return nodes_; }
   std::size_t size() const { return nodes_.size(); }
+  /// Where the blocks of the next tracking start (ascending, from 0, and the front's size
+  /// last), cut by advance() so that each block holds about the same work as measured in the
+  /// last step; empty right after a build (blocks of a fixed size then). Counts only, so the
+  /// cuts, like the front, do not depend on the thread count.
+  const std::vector<std::uint32_t>& cuts() const { return cuts_; }
 
   /// A fresh front from the pieces of a traversal from the root (concatenated in piece order,
   /// then sorted by first node: BVH-node order, section 4.8). The pieces are released.
-  void build(WorkerOutputs& pieces);
+  void build(WorkerOutputs& pieces, const Executor& ex = serial_executor());
   /// The next front from the outputs of the tracked blocks, in block order; adds their S and B
   /// counts and applies the rebuild rule: when S/L > sprout_ratio or B/L > invalid_ratio (L the
   /// new front size), the next step rebuilds. The blocks' parts are copied through `ex`, each
   /// to its own place.
   void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio, double invalid_ratio,
                const Executor& ex = serial_executor());
+  /// The units of work of a tracked block, from its counts (a rough cost: the leaf pairs'
+  /// feature pairs and elementary tests dominate).
+  static double work_of(const StepStats& s);
+  /// Block size of the cuts: the next tracking gets as many blocks as fixed blocks of
+  /// `block_nodes` would give, of about equal work, and none longer than 4 x block_nodes.
+  void set_block_nodes(std::size_t block_nodes) { block_nodes_ = std::max<std::size_t>(block_nodes, 1); }
   /// The memory cap: the bytes held by the front and by the parts of it in `units`; over
   /// `max_bytes` (0: no cap) both are released and the next step rebuilds. Returns the bytes
   /// held after it.
   std::size_t cap(WorkerOutputs& units, std::size_t max_bytes);
   /// Forgets the front: the next fbd step builds it from the root (after a failed step).
-  void invalidate() { valid_ = false; }
+  void invalidate() {
+    valid_ = false;
+    cuts_.clear();
+  }
   /// Forgets the front and releases its buffers.
   void release() {
     valid_ = false;
     nodes_ = LargeVector<NodePair>();
     next_ = LargeVector<NodePair>();
+    cuts_ = std::vector<std::uint32_t>();
   }
   /// Bytes held by the front buffers.
   std::size_t bytes() const { return (nodes_.capacity() + next_.capacity()) * sizeof(NodePair); }
@@ -70,7 +85,16 @@ class BvttFront {
 
  private:
   static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
+  /// work_of's units: a leaf pair's set-up, a queued feature pair (its filter and its share
+  /// of elementary tests), and the work from which a leaf pair is noted as costly.
+  static constexpr std::uint64_t kLeafPairWork = 48, kQueuedWork = 9, kCostlyWork = 2048;
+  /// Cuts the next front (block b's part: [at[b], at[b + 1])) into blocks of about equal
+  /// work: each part's costly nodes where they lie, the rest of its work spread evenly over
+  /// its other nodes.
+  void cut(const WorkerOutputs& blocks, const std::vector<std::size_t>& at);
   LargeVector<NodePair> nodes_, next_;
+  std::vector<std::uint32_t> cuts_;
+  std::size_t block_nodes_ = 64;
   std::uint64_t sprouted_since_build_ = 0, invalidated_since_build_ = 0;
   bool valid_ = false;
 };
@@ -114,7 +138,16 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
     ++out.stats.volume_tests;
     const unsigned ov = bvtt.quarters(n);
     if (bvh.leaf(n.a) && bvh.leaf(n.b)) {
-      if (ov) bvtt.leaf().process(n.a, n.b, ov, out);
+      if (ov) {
+        // its work, as the next cuts count it: the feature pairs it tested and those it queued
+        const std::uint64_t tested = out.stats.feature_box_tests, queued = out.queued.total();
+        bvtt.leaf().process(n.a, n.b, ov, out);
+        const std::uint64_t work = kLeafPairWork + (out.stats.feature_box_tests - tested) +
+                                   kQueuedWork * (out.queued.total() - queued);
+        if (work >= kCostlyWork)
+          out.costly.push_back({static_cast<std::uint32_t>(out.front.size()),
+                                static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
+      }
       out.front.push_back(n);
     } else if (!ov) {
       out.front.push_back(n);

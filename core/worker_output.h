@@ -51,7 +51,13 @@ class PairQueue {
   bool empty() const { return size_ == 0; }
   QueuedPair* data() { return data_.get(); }
   const QueuedPair* data() const { return data_.get(); }
-  void clear() { size_ = 0; }
+  void clear() {
+    emptied_ += size_;
+    size_ = 0;
+  }
+  /// Pairs ever queued here (those emptied and those waiting): differences of it count what a
+  /// stretch of work queued, whatever ran the queue in between.
+  std::uint64_t total() const { return emptied_ + size_; }
   void push_back(const QueuedPair& p) {
     if (size_ == capacity_) grow(size_ + 1);
     data_[size_++] = p;
@@ -74,6 +80,14 @@ class PairQueue {
   }
   std::unique_ptr<QueuedPair[]> data_;
   std::size_t size_ = 0, capacity_ = 0;
+  std::uint64_t emptied_ = 0;
+};
+
+/// A front node whose leaf pair cost much more than most (BvttFront::track): its place in
+/// the unit's part of the next front and its work, in BvttFront::work_of's units.
+struct CostlyNode {
+  std::uint32_t at;
+  std::uint32_t work;
 };
 
 struct WorkerOutput {
@@ -85,8 +99,10 @@ struct WorkerOutput {
   std::vector<NodePair> left;
   PairQueue queued;                  ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts
+  std::vector<CostlyNode> costly;    ///< front tracking: its costly nodes, in order
   void clear() {
     front.clear();
+    costly.clear();
     contacts.clear();
     stack.clear();
     left.clear();

@@ -70,11 +70,12 @@ class SearchStage {
     if (front_.needs_build()) {
       traverse_phc<true>(bvtt, units_, contacts);
       add(units_.size(), stats);
-      front_.build(units_);
+      front_.build(units_, tbb_executor());
       stats.rebuilds = 1;
     } else {
       const std::size_t n = track_front(bvtt, front_, units_, contacts);
       add(n, stats);
+      front_.set_block_nodes(kFrontBlock);
       front_.advance(units_, n, rules_.sprout_ratio, rules_.invalid_ratio, tbb_executor());
     }
     stats.front_bytes = front_.cap(units_, rules_.max_bytes);
@@ -91,9 +92,7 @@ class SearchStage {
     }
   }
 
-  void add(std::size_t n, StepStats& stats) const {
-    for (std::size_t i = 0; i < n; ++i) stats += units_[i].stats;
-  }
+  void add(std::size_t n, StepStats& stats) const { add_counts(units_, n, stats); }
 
   FrontRules rules_;
   BvttFront front_;

@@ -21,6 +21,9 @@ class SelfStage {
   /// Self units per block: 16 leaves of up to 21 triangles, so that small scenes still spread
   /// over many threads.
   static constexpr std::size_t kBlock = 16;
+  /// Blocks up to which the stage runs on the calling thread (as front tracking does: a
+  /// parallel loop costs more in waking threads than it saves there).
+  static constexpr std::size_t kSerialBlocks = 4;
 
   /// Every self unit of `leaf` (core/leaf_pairs.h), contacts into `contacts`, counts into
   /// `stats`.
@@ -35,10 +38,10 @@ class SelfStage {
       flush(o, contacts);
     };
     if (n <= kSerialBlocks)
-      for (std::size_t b = 0; b < n; ++b) block(b);  // as in front tracking: not worth a thread
+      for (std::size_t b = 0; b < n; ++b) block(b);
     else
       for_each_index(n, block, tbb::auto_partitioner());
-    for (std::size_t b = 0; b < n; ++b) stats += outputs_[b].stats;
+    add_counts(outputs_, n, stats);
   }
 
  private:

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numeric>
 #include <random>
 
 #include <mccd/core/front.h>
@@ -276,4 +277,79 @@ TEST(BvttFront, InvalidateKeepsTheNodesReleaseDropsThem) {
   g.build(p);
   EXPECT_EQ(g.size(), 7u);
   EXPECT_FALSE(g.needs_build());
+}
+
+// The cuts of the next tracking: blocks of about equal work by the last step's counts, in
+// order, covering the front once, none longer than 4 block sizes; none after a build.
+TEST(BvttFront, CutsSplitTheCostlyPartsIntoMoreBlocks) {
+  BvttFront f = built(10);
+  EXPECT_TRUE(f.cuts().empty()) << "a built front has no counts: fixed blocks";
+  // 8 parts of 200 nodes; part 2 did 50 times the work of the others
+  WorkerOutputs parts(8);
+  for (std::size_t b = 0; b < parts.size(); ++b) {
+    for (std::uint32_t i = 0; i < 200; ++i) parts[b].front.push_back({std::uint32_t(b), 1000 + i});
+    parts[b].stats.volume_tests = 200;
+    parts[b].stats.feature_box_tests = b == 2 ? 500000 : 10000;
+  }
+  f.set_block_nodes(64);
+  f.advance(parts, parts.size(), 1e9, 1e9);
+  const std::vector<std::uint32_t>& cuts = f.cuts();
+  ASSERT_GE(cuts.size(), 2u);
+  EXPECT_EQ(cuts.front(), 0u);
+  EXPECT_EQ(cuts.back(), f.size());
+  std::vector<double> work;  // each block's share of the parts' work, spread evenly on their nodes
+  std::size_t in_costly = 0;
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    ASSERT_LT(cuts[k], cuts[k + 1]) << "block " << k;
+    EXPECT_LE(cuts[k + 1] - cuts[k], 4u * 64) << "block " << k;
+    double w = 0;
+    for (std::uint32_t i = cuts[k]; i < cuts[k + 1]; ++i) {
+      const std::size_t b = i / 200;
+      w += BvttFront::work_of(parts[b].stats) / 200 + 4;
+    }
+    work.push_back(w);
+    if (cuts[k] >= 400 && cuts[k + 1] <= 600) ++in_costly;
+  }
+  // as many blocks as fixed blocks of 64 would give (25), within a few
+  EXPECT_NEAR(double(work.size()), 25.0, 3.0);
+  // the costly part holds most of the work, so most of the blocks
+  EXPECT_GE(in_costly, 12u);
+  const double largest = *std::max_element(work.begin(), work.end());
+  const double mean = std::accumulate(work.begin(), work.end(), 0.0) / double(work.size());
+  EXPECT_LE(largest, 1.5 * mean);
+  // fixed blocks of 64 would have put 64 of the costly nodes in a block: 4x the mean and more
+  double fixed_largest = 0;
+  for (std::size_t lo = 0; lo < f.size(); lo += 64) {
+    double w = 0;
+    for (std::size_t i = lo; i < std::min<std::size_t>(f.size(), lo + 64); ++i)
+      w += BvttFront::work_of(parts[i / 200].stats) / 200 + 4;
+    fixed_largest = std::max(fixed_largest, w);
+  }
+  EXPECT_GT(fixed_largest, 3 * largest);
+  // forgotten with the front
+  f.invalidate();
+  EXPECT_TRUE(f.cuts().empty());
+}
+
+// A costly node (a leaf pair noted by track()) weighs where it lies, not spread over its part:
+// its block ends with it.
+TEST(BvttFront, CutsEndABlockAtACostlyNode) {
+  BvttFront f = built(10);
+  WorkerOutputs parts(4);
+  for (std::size_t b = 0; b < parts.size(); ++b) {
+    for (std::uint32_t i = 0; i < 100; ++i) parts[b].front.push_back({std::uint32_t(b), 1000 + i});
+    parts[b].stats.feature_box_tests = 2000;
+  }
+  parts[2].costly.push_back({37, 100000});
+  parts[2].stats.feature_box_tests += 100000;
+  f.set_block_nodes(16);
+  f.advance(parts, parts.size(), 1e9, 1e9);
+  const std::vector<std::uint32_t>& cuts = f.cuts();
+  ASSERT_GE(cuts.size(), 2u);
+  EXPECT_EQ(cuts.back(), 400u);
+  EXPECT_NE(std::find(cuts.begin(), cuts.end(), 2 * 100 + 37 + 1), cuts.end()) << "no cut right after the costly node";
+  // the rest of its part is as light as the other parts: a few cuts there (its work spread
+  // evenly over the part would have cut it into many small blocks)
+  const auto in_part = std::count_if(cuts.begin(), cuts.end(), [](std::uint32_t c) { return c > 200 && c < 300; });
+  EXPECT_LE(in_part, 3);
 }

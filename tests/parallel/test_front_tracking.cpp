@@ -69,8 +69,15 @@ std::size_t track_through(BvttScene& s, std::size_t task_work = kTaskWork, bool 
     WorkerOutput probe;  // the whole front as one block under the same budget
     BvttFront::track(s.bvtt(), front.nodes().data(), front.nodes().data() + front.size(), probe, task_work);
     any_left = any_left || !probe.left.empty();
+    const std::vector<std::uint32_t> cuts = front.cuts();
+    EXPECT_EQ(cuts.empty(), f == 1) << "cut after every step that tracked, not after the build";
     const std::size_t n = track_front(s.bvtt(), front, blocks, contacts, /*readonly=*/false, task_work);
-    EXPECT_EQ(n, (before.size() + kFrontBlock - 1) / kFrontBlock);
+    if (cuts.empty()) {
+      EXPECT_EQ(n, (before.size() + kFrontBlock - 1) / kFrontBlock);
+    } else {
+      EXPECT_EQ(n, cuts.size() - 1);
+      EXPECT_EQ(cuts.back(), before.size());
+    }
     EXPECT_EQ(test::hits(contacts), want);
     std::vector<NodePair> joined;
     std::uint64_t sprouted = 0, invalidated = 0;
