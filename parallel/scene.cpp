@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/task_arena.h>
@@ -46,6 +47,14 @@ struct Scene::Impl {
   std::unique_ptr<detail::Stepper<Aabb>> aabb;
   std::atomic<bool> busy{false};
   Positions last_end;  ///< the end positions of the last step (initially the meshes'), for advance()
+  /// take_in()'s pieces (a mesh's vertices [b, e) each) and tasks (the first piece of each,
+  /// then the end), kept from step to step.
+  struct InputPiece {
+    std::uint32_t mesh;
+    std::size_t b, e;
+  };
+  std::vector<InputPiece> input_pieces;
+  std::vector<std::size_t> input_tasks;
 
   /// Runs `f` in the scene's arena (the caller's when none is set), isolated: while this thread
   /// waits inside, it takes only `f`'s own tasks, never an outer task of the host.
@@ -119,56 +128,89 @@ struct Scene::Impl {
   }
 
   /// Checks `views` (`which`: the argument, for errors) and copies them into `dst` (global ids),
-  /// converting float to double, in parallel chunks in the scene's arena: each chunk is copied,
-  /// then checked where it lies in cache. Throws naming the first fault of the first mesh that
-  /// is not fit for this scene (the number of arrays, a mesh's vertex count or columns, a
-  /// coordinate that is not finite, a static mesh moved); `dst` is then the scene's scratch,
-  /// rewritten in full by the next step, and nothing else has changed. With `same_as`: returns
-  /// whether every copied position is bit for bit the one there (a static mesh's never change).
-  /// `ws` (nullptr: not measured): the pass's work and span.
+  /// converting float to double. Every shape first; then the moving meshes' vertices in one
+  /// parallel loop in the scene's arena, in tasks of about kPositionsGrain vertices (a long
+  /// mesh in several, small meshes together): each piece is copied, then checked where it lies
+  /// in cache. Throws naming the first fault (the number of arrays, a mesh's vertex count or
+  /// columns, a static mesh moved, then the first mesh with a coordinate that is not finite);
+  /// `dst` is then the scene's scratch, rewritten in full by the next step, and nothing else
+  /// has changed. With `same_as`: returns whether every copied position is bit for bit the one
+  /// there (a static mesh's never change). `ws` (nullptr: not measured): the loop's work and
+  /// span are added there.
   bool take_in(const std::vector<PositionsView>& views, const char* which, Positions& dst,
                const Positions* same_as = nullptr, WorkSpan* ws = nullptr) {
     if (views.size() != meshes.size())
       throw Error(std::string(which) + ": " + std::to_string(views.size()) + " position arrays for " +
                   std::to_string(meshes.size()) + " meshes");
     auto what = [&](std::size_t m) { return std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")"; };
-    std::atomic<bool> same{same_as != nullptr};
+    // The shapes, and the pieces of the loop.
+    std::vector<InputPiece>& pieces = input_pieces;
+    std::vector<std::size_t>& tasks = input_tasks;  // the first piece of each task, then the end
+    pieces.clear();
+    tasks.assign(1, 0);
+    std::size_t in_task = 0;
     for (std::size_t m = 0; m < views.size(); ++m) {
       const PositionsView& v = views[m];
+      const std::size_t nv = meshes[m].num_vertices();
       if (topo->mesh_options(m).is_static) {  // no positions, or its own, unchanged
         if (v.rows() == 0) continue;
-        validate_positions(v, meshes[m].num_vertices(), what(m));
+        validate_positions(v, nv, what(m));
         for (std::size_t i = 0; i < v.rows(); ++i)
           if (v.point(i) != meshes[m].vertices.point(i))
             throw Error(what(m) + ": the mesh is static, but vertex " + std::to_string(i) +
                         " differs from its initial position (give an empty PositionsView, or the same positions)");
         continue;
       }
-      validate_positions_shape(v, meshes[m].num_vertices(), what(m));  // cheap, and the pass needs it
-      double* out = dst.data() + 3 * topo->vertex_offset(m);
-      const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(m) : nullptr;
-      std::atomic<bool> finite{true};
-      in_arena([&] {
-        detail::WorkSpanRecorder recorder;
-        const detail::StageClock clock(ws ? &recorder : nullptr);
-        detail::dynamic_for(v.rows(), kPositionsGrain, [&](std::size_t b, std::size_t e) {
-          if (v.is_dense_double()) {
-            std::memcpy(out + 3 * b, static_cast<const double*>(v.data()) + 3 * b, 3 * (e - b) * sizeof(double));
-          } else {
-            for (std::size_t i = b; i < e; ++i)
-              for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
-          }
-          if (!all_finite(out + 3 * b, 3 * (e - b))) finite.store(false, std::memory_order_relaxed);
-          if (ref && same.load(std::memory_order_relaxed) &&
-              std::memcmp(out + 3 * b, ref + 3 * b, 3 * (e - b) * sizeof(double)) != 0)
-            same.store(false, std::memory_order_relaxed);
-        });
-        if (ws) *ws += clock.work_span(clock.seconds());
-      });
-      // A float converts to an infinite double only when it is infinite itself.
-      if (!finite.load(std::memory_order_relaxed))
-        validate_positions(v, meshes[m].num_vertices(), what(m));  // throws, naming the first fault
+      if (v.cols() != 3 || v.rows() != nv || (nv > 0 && v.data() == nullptr))
+        validate_positions_shape(v, nv, what(m));  // throws, naming the fault
+      for (std::size_t b = 0; b < nv;) {
+        const std::size_t e = std::min(nv, b + (kPositionsGrain - in_task));
+        pieces.push_back({static_cast<std::uint32_t>(m), b, e});
+        in_task += e - b;
+        b = e;
+        if (in_task == kPositionsGrain) {
+          tasks.push_back(pieces.size());
+          in_task = 0;
+        }
+      }
     }
+    if (tasks.back() != pieces.size()) tasks.push_back(pieces.size());
+    if (pieces.empty()) return same_as != nullptr;
+    std::atomic<bool> same{same_as != nullptr};
+    std::atomic<std::uint32_t> first_bad{std::numeric_limits<std::uint32_t>::max()};  // mesh
+    auto piece = [&](const InputPiece& p) {
+      const PositionsView& v = views[p.mesh];
+      double* out = dst.data() + 3 * topo->vertex_offset(p.mesh);
+      if (v.is_dense_double()) {
+        std::memcpy(out + 3 * p.b, static_cast<const double*>(v.data()) + 3 * p.b, 3 * (p.e - p.b) * sizeof(double));
+      } else {
+        for (std::size_t i = p.b; i < p.e; ++i)
+          for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
+      }
+      // a float converts to an infinite double only when it is infinite itself
+      if (!all_finite(out + 3 * p.b, 3 * (p.e - p.b))) {
+        std::uint32_t was = first_bad.load(std::memory_order_relaxed);
+        while (p.mesh < was && !first_bad.compare_exchange_weak(was, p.mesh, std::memory_order_relaxed)) {
+        }
+      }
+      const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(p.mesh) : nullptr;
+      if (ref && same.load(std::memory_order_relaxed) &&
+          std::memcmp(out + 3 * p.b, ref + 3 * p.b, 3 * (p.e - p.b) * sizeof(double)) != 0)
+        same.store(false, std::memory_order_relaxed);
+    };
+    in_arena([&] {
+      detail::WorkSpanRecorder recorder;
+      const detail::StageClock clock(ws ? &recorder : nullptr);
+      detail::for_each_index(
+          tasks.size() - 1,
+          [&](std::size_t t) {
+            for (std::size_t i = tasks[t]; i < tasks[t + 1]; ++i) piece(pieces[i]);
+          },
+          tbb::simple_partitioner());
+      if (ws) *ws += clock.work_span(clock.seconds());
+    });
+    if (const std::uint32_t m = first_bad.load(std::memory_order_relaxed); m != std::numeric_limits<std::uint32_t>::max())
+      validate_positions(views[m], meshes[m].num_vertices(), what(m));  // throws, naming the first fault
     return same.load(std::memory_order_relaxed);
   }
 
