@@ -403,7 +403,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   // The needed leaves' signs: of the leaves under a closed surface (`under_closed`; under one
   // certified this step none is needed) or of those under none.
   auto signs_of_leaves = [&](bool under_closed) {
-    ex.dynamic_for(n, 256, [&](std::size_t b, std::size_t e) {
+    ex.dynamic_for(n, 64, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i != e; ++i) {
         const std::uint32_t node = static_cast<std::uint32_t>(i);
         if (!bvh.leaf(node) || !signed_[node] || (closed_above_[node] != kNone) != under_closed) continue;
@@ -477,7 +477,7 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
     return count;
   };
   auto subtree = [&](auto&& self, std::uint32_t i) -> std::uint64_t {
-    if (bvh.subtree_size(i) <= 256) return serial(i, i + bvh.subtree_size(i));
+    if (bvh.subtree_size(i) <= 64) return serial(i, i + bvh.subtree_size(i));
     if (certifies(i)) {
       std::fill(top_.begin() + i, top_.begin() + i + bvh.subtree_size(i), i);
       return 1;
