@@ -57,30 +57,27 @@ std::string FrameNames::key(std::size_t frames) const {
   return out;
 }
 
-std::size_t StepAccumulator::merge_runs() {
-  scratch_.resize(keys_.size());
-  // Pairs of neighbouring runs merged from keys_ into scratch_, a pair found in both kept once,
-  // round after round until one run is left.
-  while (runs_.size() > 2) {
-    std::vector<std::size_t> next{0};
-    PairKey* out = scratch_.data();
-    for (std::size_t j = 0; j + 1 < runs_.size(); j += 2) {
-      const PairKey *a = keys_.data() + runs_[j], *ae = keys_.data() + runs_[j + 1];
-      const PairKey *b = ae, *be = j + 2 < runs_.size() ? keys_.data() + runs_[j + 2] : ae;
-      while (a != ae && b != be) {
-        const bool take_b = *b < *a;
-        const bool both = !take_b && !(*a < *b);
-        *out++ = take_b ? *b : *a;
-        a += !take_b;
-        b += take_b | both;
-      }
-      out = std::copy(b, be, std::copy(a, ae, out));
-      next.push_back(std::size_t(out - scratch_.data()));
-    }
-    keys_.swap(scratch_);
-    runs_.swap(next);
+void StepAccumulator::merge_last_two() {
+  const std::size_t k = runs_.size();  // k - 1 runs
+  const PairKey *a = keys_.data() + runs_[k - 3], *ae = keys_.data() + runs_[k - 2];
+  const PairKey *b = ae, *be = keys_.data() + runs_[k - 1];
+  scratch_.resize(std::size_t(be - a));
+  PairKey* out = scratch_.data();
+  while (a != ae && b != be) {
+    const bool take_b = *b < *a;
+    const bool both = !take_b && !(*a < *b);
+    *out++ = take_b ? *b : *a;
+    a += !take_b;
+    b += take_b | both;
   }
-  return runs_.back();
+  out = std::copy(b, be, std::copy(a, ae, out));
+  const std::size_t begin = runs_[k - 3], merged = std::size_t(out - scratch_.data());
+  std::copy(scratch_.data(), out, keys_.begin() + std::ptrdiff_t(begin));
+  keys_.resize(begin + merged);
+  runs_.pop_back();
+  runs_.back() = keys_.size();
+  levels_.pop_back();
+  ++levels_.back();
 }
 
 StepAccumulator::PairKey StepAccumulator::key(const Contact& c) {
@@ -96,6 +93,7 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     row_.stats.method = r.stats.method;
     keys_.clear();
     runs_.assign(1, 0);
+    levels_.clear();
   }
   row_.stats += r.stats;
   row_.stats.front_size = r.stats.front_size;
@@ -107,8 +105,9 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
     row_.ee = r.stats.ee_contacts;
     return true;
   }
-  // Each sub-step's contacts come sorted (the canonical order), and so do their keys: kept as
-  // one run per sub-step and merged once, after the last (log2 K passes over the step's pairs).
+  // Each sub-step's contacts come sorted (the canonical order), and so do their keys: a run
+  // of their own, merged with the runs before as a binary counter carries (log2 K passes over
+  // the step's pairs in all, most of them beside the sub-steps that follow).
   const std::size_t at = keys_.size(), need = at + r.contacts.size();
   if (need > keys_.capacity()) {
     // Room for the step's other sub-steps at this one's rate, in one array (of megabytes: in
@@ -122,8 +121,11 @@ bool StepAccumulator::add(std::size_t step, std::size_t substep, const StepResul
   keys_.resize(need);
   std::transform(r.contacts.begin(), r.contacts.end(), keys_.begin() + std::ptrdiff_t(at), key);
   runs_.push_back(keys_.size());
+  levels_.push_back(0);
+  while (levels_.size() >= 2 && levels_[levels_.size() - 1] == levels_[levels_.size() - 2]) merge_last_two();
   if (int(substep) + 1 < substeps_) return false;
-  const std::size_t n = merge_runs();
+  while (levels_.size() >= 2) merge_last_two();
+  const std::size_t n = keys_.size();
   // vertex-face pairs first (ContactKind order)
   const auto ee = std::partition_point(keys_.begin(), keys_.begin() + std::ptrdiff_t(n),
                                        [](const PairKey& k) { return k.first >> 63 == 0; });

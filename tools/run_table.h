@@ -39,12 +39,15 @@ class StepAccumulator {
   /// A contact's pair as two words, ordered as the contacts (mesh ids below 2^31).
   using PairKey = std::pair<std::uint64_t, std::uint64_t>;
   static PairKey key(const Contact& c);
-  /// The pairs of the step's sub-steps so far, one sorted run per sub-step (run j in
-  /// [runs_[j], runs_[j + 1])); merged only after the last, each pair kept once.
+  /// The pairs of the step's sub-steps so far, in sorted runs, each pair once in a run (run j
+  /// in [runs_[j], runs_[j + 1]), holding 2^levels_[j] sub-steps): a sub-step adds a run, and
+  /// the last two runs are merged while they hold as many sub-steps (a binary counter), so that
+  /// the merging goes on beside the next sub-steps and little is left after the last.
   mccd::detail::LargeVector<PairKey> keys_, scratch_;
   std::vector<std::size_t> runs_;
-  /// Merges the runs into one, sorted, each pair once; returns its length.
-  std::size_t merge_runs();
+  std::vector<unsigned> levels_;
+  /// Merges the last two runs into one, sorted, a pair found in both kept once.
+  void merge_last_two();
 };
 
 /// How the summary names frames and steps: by the files the frames came from (their names
