@@ -90,8 +90,9 @@ void BvttFront::cut(const WorkerOutputs& blocks, const std::vector<std::size_t>&
   auto run = [&](std::size_t i, std::size_t end, double each) {
     while (i < end) {
       const double short_of = (target - work) / each;
-      const std::size_t by_work =
-          short_of >= double(end - i) ? end - i : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(short_of)));
+      const std::size_t by_work = short_of >= double(end - i)
+                                      ? end - i
+                                      : std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(short_of)));
       const std::size_t take = std::min({by_work, first + longest - i, end - i});
       i += take;
       work += double(take) * each;

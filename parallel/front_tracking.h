@@ -2,8 +2,9 @@
 /// @file Internal: front tracking in parallel (the paper's FBD, sections 4.3-4.5, 5). The front,
 /// in BVH-node order, is cut into blocks of consecutive nodes (cache-ordered: a block's nodes
 /// share BVH nodes; of about equal work by the last step's counts, BvttFront::cuts()); a
-/// parallel_for hands the blocks to idle threads as they finish (work stealing). Each block writes its own part of the next front, its own contacts (fed
-/// to the buffer as one batch) and its own counters; a sprout past the block's budget of work
+/// parallel_for hands the blocks to idle threads as they finish (work stealing). Each block
+/// writes its own part of the next front, its own contacts (fed to the buffer as one batch)
+/// and its own counters; a sprout past the block's budget of work
 /// goes on in tasks of its own, appended to the block's part in order (parallel/phc.h). The
 /// parts are joined in block order, so neither the front nor the contacts depend on the thread
 /// count.
@@ -74,7 +75,8 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
     o.clear();
-    const std::size_t lo = cut ? cuts[b] : b * kFrontBlock, hi = cut ? cuts[b + 1] : std::min(nodes.size(), lo + kFrontBlock);
+    const std::size_t lo = cut ? cuts[b] : b * kFrontBlock;
+    const std::size_t hi = cut ? cuts[b + 1] : std::min(nodes.size(), lo + kFrontBlock);
     if (readonly)
       BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else

@@ -142,7 +142,9 @@ struct Scene::Impl {
     if (views.size() != meshes.size())
       throw Error(std::string(which) + ": " + std::to_string(views.size()) + " position arrays for " +
                   std::to_string(meshes.size()) + " meshes");
-    auto what = [&](std::size_t m) { return std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")"; };
+    auto what = [&](std::size_t m) {
+      return std::string(which) + ", mesh " + std::to_string(m) + " (" + meshes[m].name + ")";
+    };
     // The shapes, and the pieces of the loop.
     std::vector<InputPiece>& pieces = input_pieces;
     std::vector<std::size_t>& tasks = input_tasks;  // the first piece of each task, then the end
@@ -209,8 +211,9 @@ struct Scene::Impl {
           tbb::simple_partitioner());
       if (ws) *ws += clock.work_span(clock.seconds());
     });
-    if (const std::uint32_t m = first_bad.load(std::memory_order_relaxed); m != std::numeric_limits<std::uint32_t>::max())
-      validate_positions(views[m], meshes[m].num_vertices(), what(m));  // throws, naming the first fault
+    const std::uint32_t bad = first_bad.load(std::memory_order_relaxed);
+    if (bad != std::numeric_limits<std::uint32_t>::max())
+      validate_positions(views[bad], meshes[bad].num_vertices(), what(bad));  // throws, naming the first fault
     return same.load(std::memory_order_relaxed);
   }
 
