@@ -12,6 +12,7 @@
 /// under one, stops without a test; the front keeps it, and a front node whose two nodes lie
 /// under one certified node stays in the front untested. A kept self node that is no longer
 /// covered is expanded like an overlapping front node.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -83,8 +84,11 @@ class Bvtt {
   }
 
   /// Work of a visit in the units of traverse()'s budget: a node test 1, a leaf pair (its
-  /// feature pairs and elementary tests) kLeafPairWork.
-  static constexpr std::size_t kLeafPairWork = 16;
+  /// feature pairs and elementary tests) kLeafPairWork. traverse() counts a leaf pair's
+  /// feature pairs too: kPairsPerUnit feature-pair tests a unit, a queued pair (its filter and
+  /// its share of elementary tests) kQueuedPairs of them; a contact region's costly leaf pairs
+  /// then split a task sooner, and no task holds many of them.
+  static constexpr std::size_t kLeafPairWork = 16, kPairsPerUnit = 8, kQueuedPairs = 9;
   /// The work of visiting `n`, in those units.
   std::size_t work_of(const NodePair& n) const { return bvh_.leaf(n.a) && bvh_.leaf(n.b) ? kLeafPairWork : 1; }
 
@@ -103,8 +107,17 @@ class Bvtt {
       }
       const NodePair n = st.back();
       st.pop_back();
-      work += work_of(n);
-      visit<record>(n, out, st);
+      if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
+        // a leaf pair: at least kLeafPairWork, more where it tested and queued many feature
+        // pairs (counts, so the split is the same on every run and thread count)
+        const std::uint64_t tested = out.stats.feature_box_tests, queued = out.queued.total();
+        visit<record>(n, out, st);
+        const std::uint64_t pairs = (out.stats.feature_box_tests - tested) + kQueuedPairs * (out.queued.total() - queued);
+        work += std::max<std::size_t>(kLeafPairWork, static_cast<std::size_t>(pairs / kPairsPerUnit));
+      } else {
+        ++work;
+        visit<record>(n, out, st);
+      }
     }
     finish(out);
     return work;

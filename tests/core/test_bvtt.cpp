@@ -165,3 +165,37 @@ TEST(BvttTraversal, StoppedQueryEndsTheTraversal) {
   EXPECT_TRUE(out.contacts.empty());
   EXPECT_EQ(out.stats.volume_tests, 0u);
 }
+
+TEST(BvttTraversal, BudgetWeighsALeafPairByItsFeaturePairs) {
+  // traverse()'s work: a node test 1, a leaf pair at least kLeafPairWork, and more for the
+  // feature pairs it tested and queued (kPairsPerUnit tests a unit, a queued pair kQueuedPairs
+  // tests), so that a task holding costly leaf pairs splits sooner
+  BvttScene s(make_folding_cloth(12, 3), 1);
+  using B = BvttScene::Bvtt;
+  auto work_with = [&](std::uint64_t tested, std::size_t queued, std::size_t* processed) {
+    test::RecordingLeaf leaf;
+    leaf.tested_per_pair = tested;
+    leaf.queued_per_pair = queued;
+    QueryState q;
+    q.reset(StepKind::Full);
+    const B bvtt(s.bvh(), s.nodes(), s.topology(), leaf, q);
+    WorkerOutput out;
+    out.stack.push_back({0, 0});
+    const std::size_t work = bvtt.traverse<false>(out);
+    *processed = out.contacts.size();
+    return work;
+  };
+  std::size_t plain_pairs = 0, tested_pairs = 0, queued_pairs = 0;
+  const std::size_t plain = work_with(0, 0, &plain_pairs);
+  const std::size_t tested = work_with(100 * B::kPairsPerUnit, 0, &tested_pairs);
+  const std::size_t queued = work_with(0, 100, &queued_pairs);
+  ASSERT_GT(plain_pairs, 0u);
+  EXPECT_EQ(tested_pairs, plain_pairs);
+  EXPECT_EQ(queued_pairs, plain_pairs);
+  // each processed leaf pair: kLeafPairWork at first, then 100 units, then 100 x 9 / 8 units
+  EXPECT_EQ(tested - plain, plain_pairs * (100 - B::kLeafPairWork));
+  EXPECT_EQ(queued - plain, plain_pairs * (100 * B::kQueuedPairs / B::kPairsPerUnit - B::kLeafPairWork));
+  // a few tests a pair stay within the least a leaf pair counts
+  std::size_t few_pairs = 0;
+  EXPECT_EQ(work_with(B::kPairsPerUnit, 1, &few_pairs), plain);
+}

@@ -55,14 +55,20 @@ inline std::string describe(const LeafPairHit& h) {
 /// canonical rule skips leaf pairs of adjacent triangles).
 struct RecordingLeaf {
   unsigned skip_mod = 0;
+  /// Feature-pair tests each processed leaf pair counts, and pairs it queues (emptied by
+  /// finish()): what the traversal's budget weighs a leaf pair by.
+  std::uint64_t tested_per_pair = 0;
+  std::size_t queued_per_pair = 0;
   bool skips(std::uint32_t a, std::uint32_t b) const { return skip_mod && (a + b) % skip_mod == 0; }
   void process(std::uint32_t a, std::uint32_t b, unsigned quarters, detail::WorkerOutput& out) const {
     detail::RawContact c{};
     c.key = detail::RawContact::make_key(ContactKind::VertexFace, a, b);
     c.toi = quarters;
     out.contacts.push_back(c);
+    out.stats.feature_box_tests += tested_per_pair;
+    for (std::size_t k = 0; k < queued_per_pair; ++k) out.queued.push_back(detail::QueuedPair{});
   }
-  void finish(detail::WorkerOutput&) const {}
+  void finish(detail::WorkerOutput& out) const { out.queued.clear(); }
   unsigned touch(std::uint32_t, std::uint32_t) const { return 0; }
 };
 
