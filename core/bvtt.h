@@ -112,7 +112,8 @@ class Bvtt {
         // pairs (counts, so the split is the same on every run and thread count)
         const std::uint64_t tested = out.stats.feature_box_tests, queued = out.queued.total();
         visit<record>(n, out, st);
-        const std::uint64_t pairs = (out.stats.feature_box_tests - tested) + kQueuedPairs * (out.queued.total() - queued);
+        const std::uint64_t pairs =
+            (out.stats.feature_box_tests - tested) + kQueuedPairs * (out.queued.total() - queued);
         work += std::max<std::size_t>(kLeafPairWork, static_cast<std::size_t>(pairs / kPairsPerUnit));
       } else {
         ++work;
