@@ -85,10 +85,9 @@ class Bvtt {
 
   /// Work of a visit in the units of traverse()'s budget: a node test 1, a leaf pair (its
   /// feature pairs and elementary tests) kLeafPairWork. traverse() counts a leaf pair's
-  /// feature pairs too: kPairsPerUnit feature-pair tests a unit, a queued pair (its filter and
-  /// its share of elementary tests) kQueuedPairs of them; a contact region's costly leaf pairs
-  /// then split a task sooner, and no task holds many of them.
-  static constexpr std::size_t kLeafPairWork = 16, kPairsPerUnit = 8, kQueuedPairs = 9;
+  /// feature pairs too (WorkerOutput::pair_work(), kPairsPerUnit of them a unit): a contact
+  /// region's costly leaf pairs then split a task sooner, and no task holds many of them.
+  static constexpr std::size_t kLeafPairWork = 16, kPairsPerUnit = 8;
   /// The work of visiting `n`, in those units.
   std::size_t work_of(const NodePair& n) const { return bvh_.leaf(n.a) && bvh_.leaf(n.b) ? kLeafPairWork : 1; }
 
@@ -110,11 +109,10 @@ class Bvtt {
       if (bvh_.leaf(n.a) && bvh_.leaf(n.b)) {
         // a leaf pair: at least kLeafPairWork, more where it tested and queued many feature
         // pairs (counts, so the split is the same on every run and thread count)
-        const std::uint64_t tested = out.stats.feature_box_tests, queued = out.queued.total();
+        const std::uint64_t before = out.pair_work();
         visit<record>(n, out, st);
-        const std::uint64_t pairs =
-            (out.stats.feature_box_tests - tested) + kQueuedPairs * (out.queued.total() - queued);
-        work += std::max<std::size_t>(kLeafPairWork, static_cast<std::size_t>(pairs / kPairsPerUnit));
+        const auto pairs = static_cast<std::size_t>((out.pair_work() - before) / kPairsPerUnit);
+        work += std::max<std::size_t>(kLeafPairWork, pairs);
       } else {
         ++work;
         visit<record>(n, out, st);

@@ -85,9 +85,9 @@ class BvttFront {
 
  private:
   static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
-  /// work_of's units: a leaf pair's set-up, a queued feature pair (its filter and its share
-  /// of elementary tests), and the work from which a leaf pair is noted as costly.
-  static constexpr std::uint64_t kLeafPairWork = 48, kQueuedWork = 9, kCostlyWork = 2048;
+  /// work_of's units (a feature-pair test): a leaf pair's set-up, and the work from which a
+  /// leaf pair is noted as costly (with its feature pairs, WorkerOutput::pair_work()).
+  static constexpr std::uint64_t kLeafPairWork = 48, kCostlyWork = 2048;
   /// Cuts the next front (block b's part: [at[b], at[b + 1])) into blocks of about equal
   /// work: each part's costly nodes where they lie, the rest of its work spread evenly over
   /// its other nodes.
@@ -140,10 +140,9 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
     if (bvh.leaf(n.a) && bvh.leaf(n.b)) {
       if (ov) {
         // its work, as the next cuts count it: the feature pairs it tested and those it queued
-        const std::uint64_t tested = out.stats.feature_box_tests, queued = out.queued.total();
+        const std::uint64_t before = out.pair_work();
         bvtt.leaf().process(n.a, n.b, ov, out);
-        const std::uint64_t work = kLeafPairWork + (out.stats.feature_box_tests - tested) +
-                                   kQueuedWork * (out.queued.total() - queued);
+        const std::uint64_t work = kLeafPairWork + (out.pair_work() - before);
         if (work >= kCostlyWork)
           out.costly.push_back({static_cast<std::uint32_t>(out.front.size()),
                                 static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});

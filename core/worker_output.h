@@ -100,6 +100,13 @@ struct WorkerOutput {
   PairQueue queued;                  ///< feature pairs waiting for the narrow phase
   StepStats stats;                   ///< this unit's counts
   std::vector<CostlyNode> costly;    ///< front tracking: its costly nodes, in order
+  /// A queued feature pair's weight against a tested one (its filter and its share of
+  /// elementary tests).
+  static constexpr std::uint64_t kQueuedPairWork = 9;
+  /// The feature pairs this unit has tested and queued so far, in feature-pair tests: the
+  /// difference over a leaf pair weighs it (front cuts, traversal budgets), whatever ran the
+  /// queue in between.
+  std::uint64_t pair_work() const { return stats.feature_box_tests + kQueuedPairWork * queued.total(); }
   void clear() {
     front.clear();
     costly.clear();

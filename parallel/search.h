@@ -28,7 +28,7 @@ struct FrontRules {
 
 class SearchStage {
  public:
-  explicit SearchStage(FrontRules rules) : rules_(rules) {}
+  explicit SearchStage(FrontRules rules) : rules_(rules) { front_.set_block_nodes(kFrontBlock); }
 
   /// Runs `method` over `bvtt` (core/bvtt.h) for a step of `kind`, its contacts into
   /// `contacts`, its counts into `stats`. `brute_force` runs the brute-force method into the
@@ -75,7 +75,6 @@ class SearchStage {
     } else {
       const std::size_t n = track_front(bvtt, front_, units_, contacts);
       add(n, stats);
-      front_.set_block_nodes(kFrontBlock);
       front_.advance(units_, n, rules_.sprout_ratio, rules_.invalid_ratio, tbb_executor());
     }
     stats.front_bytes = front_.cap(units_, rules_.max_bytes);

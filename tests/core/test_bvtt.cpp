@@ -168,8 +168,8 @@ TEST(BvttTraversal, StoppedQueryEndsTheTraversal) {
 
 TEST(BvttTraversal, BudgetWeighsALeafPairByItsFeaturePairs) {
   // traverse()'s work: a node test 1, a leaf pair at least kLeafPairWork, and more for the
-  // feature pairs it tested and queued (kPairsPerUnit tests a unit, a queued pair kQueuedPairs
-  // tests), so that a task holding costly leaf pairs splits sooner
+  // feature pairs it tested and queued (kPairsPerUnit tests a unit, a queued pair
+  // WorkerOutput::kQueuedPairWork tests), so that a task holding costly leaf pairs splits sooner
   BvttScene s(make_folding_cloth(12, 3), 1);
   using B = BvttScene::Bvtt;
   auto work_with = [&](std::uint64_t tested, std::size_t queued, std::size_t* processed) {
@@ -194,7 +194,7 @@ TEST(BvttTraversal, BudgetWeighsALeafPairByItsFeaturePairs) {
   EXPECT_EQ(queued_pairs, plain_pairs);
   // each processed leaf pair: kLeafPairWork at first, then 100 units, then 100 x 9 / 8 units
   EXPECT_EQ(tested - plain, plain_pairs * (100 - B::kLeafPairWork));
-  EXPECT_EQ(queued - plain, plain_pairs * (100 * B::kQueuedPairs / B::kPairsPerUnit - B::kLeafPairWork));
+  EXPECT_EQ(queued - plain, plain_pairs * (100 * WorkerOutput::kQueuedPairWork / B::kPairsPerUnit - B::kLeafPairWork));
   // a few tests a pair stay within the least a leaf pair counts
   std::size_t few_pairs = 0;
   EXPECT_EQ(work_with(B::kPairsPerUnit, 1, &few_pairs), plain);
