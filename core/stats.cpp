@@ -59,8 +59,12 @@ StepStats& StepStats::operator+=(const StepStats& o) {
   return *this;
 }
 
+double StepStats::staged_work() const {
+  return ws_update.work + ws_refit.work + ws_branch.work + ws_join.work + ws_input.work;
+}
+
 double StepStats::predicted_seconds(double threads) const {
-  const double staged = ws_update.work + ws_refit.work + ws_branch.work + ws_join.work + ws_input.work;
+  const double staged = staged_work();
   const double outside = t_total > staged ? t_total - staged : 0.0;
   return outside + ws_update.predict(threads) + ws_refit.predict(threads) + ws_branch.predict(threads) +
          ws_join.predict(threads) + ws_input.predict(threads);

@@ -83,9 +83,11 @@ struct StepStats {
   /// With SceneOptions::work_span: the step's positions checked and copied in before the
   /// stages (parallel chunks; part of t_total, in no stage's time).
   WorkSpan ws_input;
+  /// The work measured in the stages and the input (the sum of their WorkSpan::work).
+  double staged_work() const;
   /// The step's predicted seconds on `threads` threads from the work and span measured (best
   /// from one thread): every stage's prediction and the input's plus the time outside them
-  /// (serial).
+  /// (t_total less staged_work(): serial).
   double predicted_seconds(double threads) const;
 
   /// Adds every count and time of `o` (the method is kept).
