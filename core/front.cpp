@@ -80,8 +80,9 @@ void BvttFront::cut(const WorkerOutputs& blocks, const std::vector<std::size_t>&
   constexpr double kNodeWork = 4.0;  // every node: at least its volume test
   double total = 0;
   for (std::size_t b = 0; b < parts; ++b) total += work_of(blocks[b].stats) + kNodeWork * double(at[b + 1] - at[b]);
-  const double target = total / double((n + block_nodes_ - 1) / block_nodes_);
-  const std::size_t longest = 4 * block_nodes_;
+  const std::size_t block = block_size(n);
+  const double target = total / double((n + block - 1) / block);
+  const std::size_t longest = 4 * block;
   cuts_.push_back(0);
   std::size_t first = 0;  // the current block's first node
   double work = 0;        // the current block's work so far

@@ -41,9 +41,17 @@ class BvttFront {
   /// The units of work of a tracked block, from its counts (a rough cost: the leaf pairs'
   /// feature pairs and elementary tests dominate).
   static double work_of(const StepStats& s);
-  /// Block size of the cuts: the next tracking gets as many blocks as fixed blocks of
-  /// `block_nodes` would give, of about equal work, and none longer than 4 x block_nodes.
-  void set_block_nodes(std::size_t block_nodes) { block_nodes_ = std::max<std::size_t>(block_nodes, 1); }
+  /// Block sizes: a front of n nodes is tracked in blocks of block_size(n) nodes, `most` where
+  /// that gives at least `min_blocks` blocks, else smaller ones, down to `least` (a small
+  /// front is still spread over many threads). The cuts give the next tracking as many
+  /// blocks as fixed blocks of that size would, of about equal work, none longer than 4
+  /// block sizes. A size of the front only, never of the thread count.
+  void set_block_nodes(std::size_t most, std::size_t least = 0, std::size_t min_blocks = 1) {
+    most_nodes_ = std::max<std::size_t>(most, 1);
+    least_nodes_ = least == 0 ? most_nodes_ : std::clamp<std::size_t>(least, 1, most_nodes_);
+    min_blocks_ = std::max<std::size_t>(min_blocks, 1);
+  }
+  std::size_t block_size(std::size_t n) const { return std::clamp(n / min_blocks_, least_nodes_, most_nodes_); }
   /// The memory cap: the bytes held by the front and by the parts of it in `units`; over
   /// `max_bytes` (0: no cap) both are released and the next step rebuilds. Returns the bytes
   /// held after it.
@@ -94,7 +102,7 @@ class BvttFront {
   void cut(const WorkerOutputs& blocks, const std::vector<std::size_t>& at);
   LargeVector<NodePair> nodes_, next_;
   std::vector<std::uint32_t> cuts_;
-  std::size_t block_nodes_ = 64;
+  std::size_t most_nodes_ = 64, least_nodes_ = 64, min_blocks_ = 1;
   std::uint64_t sprouted_since_build_ = 0, invalidated_since_build_ = 0;
   bool valid_ = false;
 };

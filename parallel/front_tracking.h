@@ -27,6 +27,10 @@ namespace mccd::detail {
 /// costly leaf pairs of a contact region fall into the same few blocks: the longest block is
 /// a step's critical path on many threads, and shorter blocks shorten it.
 inline constexpr std::size_t kFrontBlock = 64;
+/// A front too small for kMinFrontBlocks blocks of kFrontBlock nodes gets smaller blocks, down
+/// to kLeastFrontBlock nodes (BvttFront::block_size): a small scene's front (a few thousand
+/// nodes) still gives every one of 16 threads several blocks.
+inline constexpr std::size_t kMinFrontBlocks = 128, kLeastFrontBlock = 16;
 /// Fronts of at most this many blocks of kFrontBlock nodes are tracked on the calling thread
 /// (block by block, as in parallel): a parallel loop costs more in waking threads than it saves
 /// there.
@@ -62,10 +66,11 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
                         ContactBuffer& contacts, bool readonly = false, std::size_t task_work = kTaskWork) {
   const LargeVector<NodePair>& nodes = front.nodes();
   // The front's cuts (blocks of about equal work, from the last step's counts) where it has
-  // them, else blocks of kFrontBlock nodes.
+  // them, else fixed blocks (BvttFront::block_size).
   const std::vector<std::uint32_t>& cuts = front.cuts();
   const bool cut = cuts.size() >= 2 && cuts.back() == nodes.size();
-  const std::size_t n = cut ? cuts.size() - 1 : (nodes.size() + kFrontBlock - 1) / kFrontBlock;
+  const std::size_t fixed = front.block_size(nodes.size());
+  const std::size_t n = cut ? cuts.size() - 1 : (nodes.size() + fixed - 1) / fixed;
   if (blocks.size() < n) blocks.resize(n);
   const bool serial = nodes.size() <= kSerialBlocks * kFrontBlock;
   const std::size_t budget = serial ? static_cast<std::size_t>(-1) : task_work;
@@ -75,8 +80,8 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
     o.clear();
-    const std::size_t lo = cut ? cuts[b] : b * kFrontBlock;
-    const std::size_t hi = cut ? cuts[b + 1] : std::min(nodes.size(), lo + kFrontBlock);
+    const std::size_t lo = cut ? cuts[b] : b * fixed;
+    const std::size_t hi = cut ? cuts[b + 1] : std::min(nodes.size(), lo + fixed);
     if (readonly)
       BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else

@@ -28,7 +28,9 @@ struct FrontRules {
 
 class SearchStage {
  public:
-  explicit SearchStage(FrontRules rules) : rules_(rules) { front_.set_block_nodes(kFrontBlock); }
+  explicit SearchStage(FrontRules rules) : rules_(rules) {
+    front_.set_block_nodes(kFrontBlock, kLeastFrontBlock, kMinFrontBlocks);
+  }
 
   /// Runs `method` over `bvtt` (core/bvtt.h) for a step of `kind`, its contacts into
   /// `contacts`, its counts into `stats`. `brute_force` runs the brute-force method into the

@@ -331,6 +331,36 @@ TEST(BvttFront, CutsSplitTheCostlyPartsIntoMoreBlocks) {
   EXPECT_TRUE(f.cuts().empty());
 }
 
+// A small front gets smaller blocks, down to the least size, so that it still gives many; a
+// large one keeps the largest size. The cuts give as many blocks as that size would.
+TEST(BvttFront, SmallFrontsGetSmallerBlocks) {
+  BvttFront f = built(10);
+  f.set_block_nodes(64, 16, 128);
+  EXPECT_EQ(f.block_size(100000), 64u);
+  EXPECT_EQ(f.block_size(128 * 64), 64u);
+  EXPECT_EQ(f.block_size(128 * 40), 40u);
+  EXPECT_EQ(f.block_size(1000), 16u);
+  EXPECT_EQ(f.block_size(0), 16u);
+  // one size only: the old fixed rule
+  BvttFront g = built(10);
+  g.set_block_nodes(32);
+  EXPECT_EQ(g.block_size(10), 32u);
+  EXPECT_EQ(g.block_size(1000000), 32u);
+  // 4 parts of 800 nodes of equal work: 3200 nodes in blocks of 25, about 128 of them
+  WorkerOutputs parts(4);
+  for (std::size_t b = 0; b < parts.size(); ++b) {
+    for (std::uint32_t i = 0; i < 800; ++i) parts[b].front.push_back({std::uint32_t(b), 1000 + i});
+    parts[b].stats.feature_box_tests = 5000;
+  }
+  f.advance(parts, parts.size(), 1e9, 1e9);
+  ASSERT_EQ(f.size(), 3200u);
+  EXPECT_EQ(f.block_size(f.size()), 25u);
+  const std::vector<std::uint32_t>& cuts = f.cuts();
+  ASSERT_GE(cuts.size(), 2u);
+  EXPECT_NEAR(double(cuts.size() - 1), 128.0, 3.0);
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) EXPECT_LE(cuts[k + 1] - cuts[k], 4u * 25) << "block " << k;
+}
+
 // A costly node (a leaf pair noted by track()) weighs where it lies, not spread over its part:
 // its block ends with it.
 TEST(BvttFront, CutsEndABlockAtACostlyNode) {

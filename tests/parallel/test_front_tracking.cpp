@@ -73,7 +73,8 @@ std::size_t track_through(BvttScene& s, std::size_t task_work = kTaskWork, bool 
     EXPECT_EQ(cuts.empty(), f == 1) << "cut after every step that tracked, not after the build";
     const std::size_t n = track_front(s.bvtt(), front, blocks, contacts, /*readonly=*/false, task_work);
     if (cuts.empty()) {
-      EXPECT_EQ(n, (before.size() + kFrontBlock - 1) / kFrontBlock);
+      const std::size_t block = front.block_size(before.size());
+      EXPECT_EQ(n, (before.size() + block - 1) / block);
     } else {
       EXPECT_EQ(n, cuts.size() - 1);
       EXPECT_EQ(cuts.back(), before.size());
