@@ -110,9 +110,13 @@ class Bvtt {
         // a leaf pair: at least kLeafPairWork, more where it tested and queued many feature
         // pairs (counts, so the split is the same on every run and thread count)
         const std::uint64_t before = out.pair_work();
+        const std::size_t stops = out.front.size();
         visit<record>(n, out, st);
         const auto pairs = static_cast<std::size_t>((out.pair_work() - before) / kPairsPerUnit);
         work += std::max<std::size_t>(kLeafPairWork, pairs);
+        // recorded as the next front's stop: noted for its cuts when costly
+        if constexpr (record)
+          if (out.front.size() != stops) out.note_leaf_pair(stops, before);
       } else {
         ++work;
         visit<record>(n, out, st);

@@ -21,14 +21,27 @@ void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   nodes_.resize(n);
   populate_pages(nodes_.data(), n * sizeof(NodePair));  // written in full, in no order: backed at once
-  for (WorkerOutput& o : pieces)
-    for (const NodePair& p : o.front) nodes_[start[p.a]++] = p;
+  // The traversal's costly leaf pairs follow their nodes to their places, for the cuts.
+  std::vector<CostlyNode> costly;
+  double work = 0;
+  for (WorkerOutput& o : pieces) {
+    work += work_of(o.stats);
+    const CostlyNode* next = o.costly.data();
+    const CostlyNode* const last = next + o.costly.size();
+    for (std::size_t j = 0; j < o.front.size(); ++j) {
+      const NodePair& p = o.front[j];
+      const std::uint32_t to = start[p.a]++;
+      nodes_[to] = p;
+      for (; next != last && next->at == j; ++next) costly.push_back({to, next->work});
+    }
+  }
+  std::sort(costly.begin(), costly.end(), [](const CostlyNode& x, const CostlyNode& y) { return x.at < y.at; });
   // The pieces are not kept: thousands of small arrays, released in parallel.
   ex.dynamic_for(pieces.size(), 256, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) pieces[i].front = std::vector<NodePair>();
   });
   next_ = LargeVector<NodePair>();
-  cuts_.clear();  // no counts yet: fixed blocks
+  cut({Part{0, n, work, costly.data(), costly.size()}});
   valid_ = true;
   sprouted_since_build_ = invalidated_since_build_ = 0;
 }
@@ -58,7 +71,10 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
       std::copy(blocks[b].front.begin(), blocks[b].front.end(), next_.begin() + static_cast<std::ptrdiff_t>(at[b]));
   });
   nodes_.swap(next_);
-  cut(blocks, at);
+  std::vector<Part> parts(num_blocks);
+  for (std::size_t b = 0; b < num_blocks; ++b)
+    parts[b] = {at[b], at[b + 1], work_of(blocks[b].stats), blocks[b].costly.data(), blocks[b].costly.size()};
+  cut(parts);
   const double L = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
   if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||
       static_cast<double>(invalidated_since_build_) > invalid_ratio * L)
@@ -68,18 +84,19 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
 double BvttFront::work_of(const StepStats& s) {
   // In units of about one feature pair's box test; a front node's volume test and a leaf
   // pair's set-up cost a few, an elementary test about a hundred.
-  return 4.0 * double(s.volume_tests) + 48.0 * double(s.leaf_pairs) + double(s.feature_box_tests) +
+  return 4.0 * double(s.volume_tests) + double(CostlyNode::kLeafPairWork) * double(s.leaf_pairs) +
+         double(s.feature_box_tests) +
          3.0 * double(s.vf_filtered + s.ee_filtered) + 80.0 * double(s.vf_tests + s.ee_tests) +
          4.0 * double(s.sprouted);
 }
 
-void BvttFront::cut(const WorkerOutputs& blocks, const std::vector<std::size_t>& at) {
+void BvttFront::cut(const std::vector<Part>& parts) {
   cuts_.clear();
-  const std::size_t n = nodes_.size(), parts = at.size() - 1;
+  const std::size_t n = nodes_.size();
   if (n == 0 || n > std::numeric_limits<std::uint32_t>::max()) return;  // fixed blocks
   constexpr double kNodeWork = 4.0;  // every node: at least its volume test
   double total = 0;
-  for (std::size_t b = 0; b < parts; ++b) total += work_of(blocks[b].stats) + kNodeWork * double(at[b + 1] - at[b]);
+  for (const Part& p : parts) total += p.work + kNodeWork * double(p.end - p.begin);
   const std::size_t block = block_size(n);
   const double target = total / double((n + block - 1) / block);
   const std::size_t longest = 4 * block;
@@ -104,22 +121,22 @@ void BvttFront::cut(const WorkerOutputs& blocks, const std::vector<std::size_t>&
       }
     }
   };
-  for (std::size_t b = 0; b < parts; ++b) {
-    const std::size_t size = at[b + 1] - at[b];
+  for (const Part& p : parts) {
+    const std::size_t size = p.end - p.begin;
     if (size == 0) continue;
-    const std::vector<CostlyNode>& costly = blocks[b].costly;
-    double rest = work_of(blocks[b].stats);
-    for (const CostlyNode& c : costly) rest -= double(c.work);
-    const std::size_t plain = size - costly.size();
+    double rest = p.work;
+    for (std::size_t k = 0; k < p.num_costly; ++k) rest -= double(p.costly[k].work);
+    const std::size_t plain = size - p.num_costly;
     const double each = (plain > 0 ? std::max(rest, 0.0) / double(plain) : 0.0) + kNodeWork;
-    std::size_t i = at[b];
-    for (const CostlyNode& c : costly) {
-      MCCD_ASSERT(at[b] + c.at >= i && c.at < size, "costly nodes out of order");
-      run(i, at[b] + c.at, each);
-      run(at[b] + c.at, at[b] + c.at + 1, double(c.work) + kNodeWork);
-      i = at[b] + c.at + 1;
+    std::size_t i = p.begin;
+    for (std::size_t k = 0; k < p.num_costly; ++k) {
+      const CostlyNode& c = p.costly[k];
+      MCCD_ASSERT(p.begin + c.at >= i && c.at < size, "costly nodes out of order");
+      run(i, p.begin + c.at, each);
+      run(p.begin + c.at, p.begin + c.at + 1, double(c.work) + kNodeWork);
+      i = p.begin + c.at + 1;
     }
-    run(i, at[b + 1], each);
+    run(i, p.end, each);
   }
   if (first < n) cuts_.push_back(static_cast<std::uint32_t>(n));
 }

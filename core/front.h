@@ -24,9 +24,10 @@ class BvttFront {
   const LargeVector<NodePair>& nodes() const { return nodes_; }
   std::size_t size() const { return nodes_.size(); }
   /// Where the blocks of the next tracking start (ascending, from 0, and the front's size
-  /// last), cut by advance() so that each block holds about the same work as measured in the
-  /// last step; empty right after a build (blocks of a fixed size then). Counts only, so the
-  /// cuts, like the front, do not depend on the thread count.
+  /// last), cut by advance() and build() so that each block holds about the same work as
+  /// measured in the last step (after a build: the traversal's work spread over the front,
+  /// its costly leaf pairs where they lie); empty for an empty front (blocks of a fixed size
+  /// then). Counts only, so the cuts, like the front, do not depend on the thread count.
   const std::vector<std::uint32_t>& cuts() const { return cuts_; }
 
   /// A fresh front from the pieces of a traversal from the root (concatenated in piece order,
@@ -93,13 +94,17 @@ class BvttFront {
 
  private:
   static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
-  /// work_of's units (a feature-pair test): a leaf pair's set-up, and the work from which a
-  /// leaf pair is noted as costly (with its feature pairs, WorkerOutput::pair_work()).
-  static constexpr std::uint64_t kLeafPairWork = 48, kCostlyWork = 2048;
-  /// Cuts the next front (block b's part: [at[b], at[b + 1])) into blocks of about equal
-  /// work: each part's costly nodes where they lie, the rest of its work spread evenly over
-  /// its other nodes.
-  void cut(const WorkerOutputs& blocks, const std::vector<std::size_t>& at);
+  /// A part of the next front for cut(): nodes [begin, end), their work (work_of), and its
+  /// costly nodes (at: from begin, ascending).
+  struct Part {
+    std::size_t begin, end;
+    double work;
+    const CostlyNode* costly;
+    std::size_t num_costly;
+  };
+  /// Cuts the front into blocks of about equal work: each part's costly nodes where they lie,
+  /// the rest of its work spread evenly over its other nodes.
+  void cut(const std::vector<Part>& parts);
   LargeVector<NodePair> nodes_, next_;
   std::vector<std::uint32_t> cuts_;
   std::size_t most_nodes_ = 64, least_nodes_ = 64, min_blocks_ = 1;
@@ -150,10 +155,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
         // its work, as the next cuts count it: the feature pairs it tested and those it queued
         const std::uint64_t before = out.pair_work();
         bvtt.leaf().process(n.a, n.b, ov, out);
-        const std::uint64_t work = kLeafPairWork + (out.pair_work() - before);
-        if (work >= kCostlyWork)
-          out.costly.push_back({static_cast<std::uint32_t>(out.front.size()),
-                                static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
+        out.note_leaf_pair(out.front.size(), before);
       }
       out.front.push_back(n);
     } else if (!ov) {

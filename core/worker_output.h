@@ -83,9 +83,13 @@ class PairQueue {
   std::uint64_t emptied_ = 0;
 };
 
-/// A front node whose leaf pair cost much more than most (BvttFront::track): its place in
-/// the unit's part of the next front and its work, in BvttFront::work_of's units.
+/// A front node whose leaf pair cost much more than most (noted where it is recorded:
+/// BvttFront::track, Bvtt::traverse): its place in the unit's part of the next front and its
+/// work, in BvttFront::work_of's units.
 struct CostlyNode {
+  /// work_of's units (a feature-pair test): a leaf pair's set-up, and the work from which a
+  /// leaf pair is noted (with its feature pairs, WorkerOutput::pair_work()).
+  static constexpr std::uint64_t kLeafPairWork = 48, kCostlyWork = 2048;
   std::uint32_t at;
   std::uint32_t work;
 };
@@ -107,6 +111,13 @@ struct WorkerOutput {
   /// difference over a leaf pair weighs it (front cuts, traversal budgets), whatever ran the
   /// queue in between.
   std::uint64_t pair_work() const { return stats.feature_box_tests + kQueuedPairWork * queued.total(); }
+  /// Notes the front node at `at` as costly when its leaf pair's work (its set-up and the
+  /// pair_work() done since `before`) reaches CostlyNode::kCostlyWork.
+  void note_leaf_pair(std::size_t at, std::uint64_t before) {
+    const std::uint64_t work = CostlyNode::kLeafPairWork + (pair_work() - before);
+    if (work >= CostlyNode::kCostlyWork)
+      costly.push_back({static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
+  }
   void clear() {
     front.clear();
     costly.clear();

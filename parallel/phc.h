@@ -64,6 +64,9 @@ void traverse_apart(const Bvtt& bvtt, const std::vector<NodePair>& nodes, Worker
       },
       tbb::simple_partitioner());
   for (const WorkerOutput& o : parts) {
+    // their costly stops (Bvtt::traverse) move with them
+    const std::size_t offset = out.front.size();
+    for (const CostlyNode& c : o.costly) out.costly.push_back({static_cast<std::uint32_t>(offset + c.at), c.work});
     out.front.insert(out.front.end(), o.front.begin(), o.front.end());
     out.stats += o.stats;
   }

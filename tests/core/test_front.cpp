@@ -147,6 +147,42 @@ TEST(BvttFront, BuildIsAStableSortOfThePiecesByFirstNode) {
   }
 }
 
+// The traversal's costly leaf pairs (noted in its pieces) follow their nodes through the
+// build's sort: the cuts end a block right after each, and the rest of the work is spread.
+TEST(BvttFront, BuildCutsAtTheTraversalsCostlyLeafPairs) {
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    WorkerOutputs pieces = random_pieces(4, seed);
+    std::vector<NodePair> costly_nodes;
+    for (WorkerOutput& o : pieces) {
+      o.stats.feature_box_tests = 1000;
+      if (o.front.size() < 3) continue;
+      const std::uint32_t at = static_cast<std::uint32_t>(o.front.size() / 2);
+      o.costly.push_back({at, 1000000});
+      o.stats.feature_box_tests += 1000000;
+      costly_nodes.push_back(o.front[at]);
+    }
+    BvttFront f;
+    f.set_block_nodes(4);  // many blocks: each costly node is several blocks' work
+    f.build(pieces);
+    const std::vector<std::uint32_t>& cuts = f.cuts();
+    ASSERT_GE(cuts.size(), 2u) << "seed " << seed;
+    EXPECT_EQ(cuts.front(), 0u);
+    EXPECT_EQ(cuts.back(), f.size());
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      EXPECT_LT(cuts[k], cuts[k + 1]);
+      EXPECT_LE(cuts[k + 1] - cuts[k], 4u * 4);
+    }
+    // each costly node ends its block: a cut right after it (its place in the sorted front;
+    // random_pieces' nodes are unique with high probability: checked)
+    for (const NodePair& c : costly_nodes) {
+      const auto at = std::find(f.nodes().begin(), f.nodes().end(), c) - f.nodes().begin();
+      ASSERT_EQ(std::count(f.nodes().begin(), f.nodes().end(), c), 1) << "seed " << seed;
+      EXPECT_NE(std::find(cuts.begin(), cuts.end(), static_cast<std::uint32_t>(at + 1)), cuts.end())
+          << "seed " << seed << ": no cut right after the costly node at " << at;
+    }
+  }
+}
+
 TEST(BvttFront, BuildOfNothingIsAnEmptyValidFront) {
   WorkerOutputs none(3);
   BvttFront f;
@@ -283,7 +319,9 @@ TEST(BvttFront, InvalidateKeepsTheNodesReleaseDropsThem) {
 // order, covering the front once, none longer than 4 block sizes; none after a build.
 TEST(BvttFront, CutsSplitTheCostlyPartsIntoMoreBlocks) {
   BvttFront f = built(10);
-  EXPECT_TRUE(f.cuts().empty()) << "a built front has no counts: fixed blocks";
+  ASSERT_GE(f.cuts().size(), 2u) << "a built front is cut too";
+  EXPECT_EQ(f.cuts().front(), 0u);
+  EXPECT_EQ(f.cuts().back(), 10u);
   // 8 parts of 200 nodes; part 2 did 50 times the work of the others
   WorkerOutputs parts(8);
   for (std::size_t b = 0; b < parts.size(); ++b) {
