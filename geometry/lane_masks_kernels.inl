@@ -644,6 +644,8 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
 
 /// LaneKernels::normal_signs: core/self_culling.cpp's normal_signs (every axis wanted), a
 /// triangle per lane, its operations in its order (product_sign<true>, bernstein_sign).
+/// Without `bits`, only the axes the triangles so far all share are looked at (the same
+/// shared bits: an axis one triangle lacks is lost whatever the others have).
 unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n,
                       double bound, double tiny, std::uint8_t* bits) {
   using D = DOps;
@@ -662,6 +664,11 @@ unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*
     }
     unsigned lane_bits[3][2];  // per axis: the lanes certainly positive, certainly negative
     for (int d = 0; d < 3; ++d) {
+      // without the triangles' own bits, an axis no triangle so far shares is not looked at
+      if (!bits && !(shared >> (2 * d) & 3u)) {
+        lane_bits[d][0] = lane_bits[d][1] = 0;
+        continue;
+      }
       const int i = (d + 1) % 3, j = (d + 2) % 3;
       // product_sign<true>'s term: p - q, and |p| + |q| into the magnitude
       auto term = [&](const D::V* a, const D::V* b, D::V& mag) {
@@ -689,7 +696,10 @@ unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*
     for (int d = 0; d < 3; ++d)
       for (int k = 0; k < 2; ++k)
         if ((lane_bits[d][k] & used) != used) shared &= ~(1u << (2 * d + k));
-    if (!bits) continue;
+    if (!bits) {
+      if (!shared) break;  // none left to share
+      continue;
+    }
     // A lane is never both certainly positive and certainly negative (with `normal`, each
     // magnitude is above `tiny`, so the two bounds have opposite signs): its bits are the two
     // masks' bits as they are, without a branch.
