@@ -56,12 +56,28 @@ Bounds3 bounding_box(const PositionsView& positions) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   Bounds3 b{Vec3::Constant(inf), Vec3::Constant(-inf)};
   if (positions.is_dense_double()) {  // one pass over the numbers, no conversion
+    // 4 points' numbers at a time into 12 running bounds of their own (independent of each
+    // other: vector lanes, no chain of dependent minima), then those by coordinate
+    constexpr std::size_t kBlock = 12;
     const double* p = static_cast<const double*>(positions.data());
-    for (std::size_t v = 0, n = positions.rows(); v < n; ++v)
-      for (int k = 0; k < 3; ++k) {
-        b.min[k] = std::min(b.min[k], p[3 * v + k]);
-        b.max[k] = std::max(b.max[k], p[3 * v + k]);
+    const std::size_t m = 3 * positions.rows();
+    double lo[kBlock], hi[kBlock];
+    std::fill(lo, lo + kBlock, inf);
+    std::fill(hi, hi + kBlock, -inf);
+    std::size_t i = 0;
+    for (; i + kBlock <= m; i += kBlock)
+      for (std::size_t j = 0; j < kBlock; ++j) {
+        lo[j] = std::min(lo[j], p[i + j]);
+        hi[j] = std::max(hi[j], p[i + j]);
       }
+    for (std::size_t j = 0; j < kBlock; ++j) {
+      b.min[j % 3] = std::min(b.min[j % 3], lo[j]);
+      b.max[j % 3] = std::max(b.max[j % 3], hi[j]);
+    }
+    for (; i < m; ++i) {  // i is a multiple of 3 here: the last points' coordinates in order
+      b.min[i % 3] = std::min(b.min[i % 3], p[i]);
+      b.max[i % 3] = std::max(b.max[i % 3], p[i]);
+    }
     return b;
   }
   for (std::size_t v = 0; v < positions.rows(); ++v) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -225,6 +226,26 @@ TEST(MeshValidation, PositionsRowCountAndFinite) {
   p(1, 0) = std::numeric_limits<double>::infinity();
   EXPECT_NE(error_of([&] { validate_positions(p, 3, "frame 1"); }).find("frame 1: vertex 1: coordinate x is not finite"),
             std::string::npos);
+}
+
+// The dense pass (blocks of points into running bounds of their own, then the last points) is
+// the point-by-point box, for every count around its block and every coordinate's extremes.
+TEST(MeshBounds, BoundingBoxOfEveryCountIsThePointByPointBox) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-100, 100);
+  for (std::size_t n = 0; n <= 41; ++n) {
+    std::vector<double> xyz(3 * n);
+    for (double& x : xyz) x = u(rng);
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (std::size_t v = 0; v < n; ++v)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], xyz[3 * v + k]);
+        hi[k] = std::max(hi[k], xyz[3 * v + k]);
+      }
+    const Bounds3 b = bounding_box(PositionsView(xyz.data(), n));
+    EXPECT_EQ(b.min, lo) << n << " points";
+    EXPECT_EQ(b.max, hi) << n << " points";
+  }
 }
 
 TEST(MeshBounds, BoundingBox) {
