@@ -85,9 +85,8 @@ double BvttFront::work_of(const StepStats& s) {
   // In units of about one feature pair's box test; a front node's volume test and a leaf
   // pair's set-up cost a few, an elementary test about a hundred.
   return 4.0 * double(s.volume_tests) + double(CostlyNode::kLeafPairWork) * double(s.leaf_pairs) +
-         double(s.feature_box_tests) +
-         3.0 * double(s.vf_filtered + s.ee_filtered) + 80.0 * double(s.vf_tests + s.ee_tests) +
-         4.0 * double(s.sprouted);
+         double(s.feature_box_tests) + 3.0 * double(s.vf_filtered + s.ee_filtered) +
+         80.0 * double(s.vf_tests + s.ee_tests) + 4.0 * double(s.sprouted);
 }
 
 void BvttFront::cut(const std::vector<Part>& parts) {

@@ -116,7 +116,8 @@ struct WorkerOutput {
   void note_leaf_pair(std::size_t at, std::uint64_t before) {
     const std::uint64_t work = CostlyNode::kLeafPairWork + (pair_work() - before);
     if (work >= CostlyNode::kCostlyWork)
-      costly.push_back({static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
+      costly.push_back(
+          {static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
   }
   void clear() {
     front.clear();
