@@ -9,31 +9,82 @@ namespace mccd::detail {
 void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
   // A counting sort by first node (stable: the traversal order is kept among nodes of one
   // first node), straight from the pieces in piece order; linear in the front and the BVH.
-  std::uint32_t max_a = 0;
+  // In parallel over chunks of pieces (runs of pieces of about kChunk nodes or more, at most
+  // kMaxChunks, from their sizes only): each chunk counts its nodes by first node; the counts
+  // give each chunk its own places, chunk after chunk within a first node; each chunk then
+  // writes its nodes there. The same array as one serial pass (a serial pass was most of the
+  // serial time of a step that builds its front).
+  constexpr std::size_t kChunk = 8192, kMaxChunks = 16;
   std::size_t n = 0;
-  for (const WorkerOutput& o : pieces) {
-    n += o.front.size();
-    for (const NodePair& p : o.front) max_a = std::max(max_a, p.a);
+  for (const WorkerOutput& o : pieces) n += o.front.size();
+  const std::size_t chunk = std::max(kChunk, (n + kMaxChunks - 1) / kMaxChunks);
+  std::vector<std::size_t> first{0};  // each chunk's first piece, then the end
+  for (std::size_t i = 0, in = 0; i < pieces.size(); ++i) {
+    in += pieces[i].front.size();
+    if (in >= chunk && i + 1 < pieces.size()) {
+      first.push_back(i + 1);
+      in = 0;
+    }
   }
-  std::vector<std::uint32_t> start(std::size_t(max_a) + 2, 0);
-  for (const WorkerOutput& o : pieces)
-    for (const NodePair& p : o.front) ++start[p.a + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  first.push_back(pieces.size());
+  const std::size_t chunks = first.size() - 1;
+  std::vector<std::uint32_t> max_a(chunks, 0);
+  ex.dynamic_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c)
+      for (std::size_t i = first[c]; i < first[c + 1]; ++i)
+        for (const NodePair& p : pieces[i].front) max_a[c] = std::max(max_a[c], p.a);
+  });
+  const std::size_t firsts = std::size_t(*std::max_element(max_a.begin(), max_a.end())) + 1;
+  // at[c * firsts + a]: chunk c's count of first node a, then its next place for one
+  std::vector<std::uint32_t> at(chunks * firsts, 0);
+  ex.dynamic_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c)
+      for (std::size_t i = first[c]; i < first[c + 1]; ++i)
+        for (const NodePair& p : pieces[i].front) ++at[c * firsts + p.a];
+  });
+  std::vector<std::uint32_t> starts(firsts + 1, 0);  // where each first node's nodes start
+  for (std::size_t a = 0; a < firsts; ++a) {
+    std::uint32_t total = 0;
+    for (std::size_t c = 0; c < chunks; ++c) total += at[c * firsts + a];
+    starts[a + 1] = starts[a] + total;
+  }
+  ex.static_for(firsts, 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t a = b; a < e; ++a) {
+      std::uint32_t next = starts[a];
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const std::uint32_t count = at[c * firsts + a];
+        at[c * firsts + a] = next;
+        next += count;
+      }
+    }
+  });
   nodes_.resize(n);
   populate_pages(nodes_.data(), n * sizeof(NodePair));  // written in full, in no order: backed at once
   // The traversal's costly leaf pairs follow their nodes to their places, for the cuts.
+  std::vector<std::vector<CostlyNode>> costly_of(chunks);
+  std::vector<double> work_of_chunk(chunks, 0);
+  ex.dynamic_for(chunks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; ++c) {
+      std::uint32_t* place = at.data() + c * firsts;
+      for (std::size_t i = first[c]; i < first[c + 1]; ++i) {
+        const WorkerOutput& o = pieces[i];
+        work_of_chunk[c] += work_of(o.stats);
+        const CostlyNode* next = o.costly.data();
+        const CostlyNode* const last = next + o.costly.size();
+        for (std::size_t j = 0; j < o.front.size(); ++j) {
+          const NodePair& p = o.front[j];
+          const std::uint32_t to = place[p.a]++;
+          nodes_[to] = p;
+          for (; next != last && next->at == j; ++next) costly_of[c].push_back({to, next->work});
+        }
+      }
+    }
+  });
   std::vector<CostlyNode> costly;
   double work = 0;
-  for (WorkerOutput& o : pieces) {
-    work += work_of(o.stats);
-    const CostlyNode* next = o.costly.data();
-    const CostlyNode* const last = next + o.costly.size();
-    for (std::size_t j = 0; j < o.front.size(); ++j) {
-      const NodePair& p = o.front[j];
-      const std::uint32_t to = start[p.a]++;
-      nodes_[to] = p;
-      for (; next != last && next->at == j; ++next) costly.push_back({to, next->work});
-    }
+  for (std::size_t c = 0; c < chunks; ++c) {
+    costly.insert(costly.end(), costly_of[c].begin(), costly_of[c].end());
+    work += work_of_chunk[c];
   }
   std::sort(costly.begin(), costly.end(), [](const CostlyNode& x, const CostlyNode& y) { return x.at < y.at; });
   // The pieces are not kept: thousands of small arrays, released in parallel.

@@ -15,6 +15,8 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+#include <random>
 #include <set>
 
 #include <mccd/parallel/front_tracking.h>
@@ -124,6 +126,42 @@ TEST(FrontTracking, SproutsPastTheirBudgetAreTraversedApart) {
   for (std::size_t visits : {std::size_t(1), std::size_t(3)}) {
     SCOPED_TRACE(std::to_string(visits) + " units of work a block");
     track_through(s, visits, /*expect_left=*/true);
+  }
+}
+
+// The build's counting sort in parallel chunks of pieces: the same front (a stable sort of the
+// pieces' nodes by first node), the same costly places and cuts as on one thread, for fronts of
+// one chunk and of many.
+TEST(FrontTracking, BuildInParallelChunksIsTheStableSort) {
+  for (std::size_t pieces_count : {std::size_t(3), std::size_t(40), std::size_t(900)}) {
+    SCOPED_TRACE(std::to_string(pieces_count) + " pieces");
+    auto make = [pieces_count] {  // the same pieces every time
+      std::mt19937 rng(static_cast<unsigned>(pieces_count));
+      WorkerOutputs pieces(pieces_count);
+      for (WorkerOutput& o : pieces) {
+        const std::size_t len = rng() % 200;
+        for (std::size_t i = 0; i < len; ++i) {
+          const std::uint32_t first = static_cast<std::uint32_t>(rng() % 3000);
+          o.front.push_back({first, first + 1 + static_cast<std::uint32_t>(rng() % 100000)});
+        }
+        o.stats.feature_box_tests = rng() % 5000;
+        if (len > 10) o.costly.push_back({static_cast<std::uint32_t>(len / 3), 1000000});
+      }
+      return pieces;
+    };
+    WorkerOutputs a = make(), b = make();
+    std::vector<NodePair> want;
+    for (const WorkerOutput& o : a) want.insert(want.end(), o.front.begin(), o.front.end());
+    std::stable_sort(want.begin(), want.end(), [](const NodePair& x, const NodePair& y) { return x.a < y.a; });
+    BvttFront serial, parallel;
+    serial.set_block_nodes(16);
+    parallel.set_block_nodes(16);
+    serial.build(a, serial_executor());
+    tbb::task_arena arena(4);
+    arena.execute([&] { parallel.build(b, tbb_executor()); });
+    EXPECT_EQ(nodes_of(serial), want);
+    EXPECT_EQ(nodes_of(parallel), want);
+    EXPECT_EQ(parallel.cuts(), serial.cuts());
   }
 }
 
