@@ -118,6 +118,9 @@ void traverse_phc(const Bvtt& bvtt, WorkerOutputs& outs, ContactBuffer& contacts
   }
   bvtt.finish(outs[0]);
   flush(outs[0], contacts);
+  // Grown with room to spare: the task count moves a little from build to build, and a
+  // reallocation of the outputs, exact to the last count, moved them all serially each time.
+  if (outs.capacity() < 1 + tasks.size()) outs.reserve((1 + tasks.size()) * 3 / 2);
   outs.resize(1 + tasks.size());
   for_each_index(
       tasks.size(),
