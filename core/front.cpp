@@ -12,8 +12,8 @@ void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
   // In parallel over chunks of pieces (runs of pieces of about kChunk nodes or more, at most
   // kMaxChunks, from their sizes only): each chunk counts its nodes by first node; the counts
   // give each chunk its own places, chunk after chunk within a first node; each chunk then
-  // writes its nodes there. The same array as one serial pass (a serial pass was most of the
-  // serial time of a step that builds its front).
+  // writes its nodes there. The same array as one serial pass (which was a long serial part of
+  // a step that builds its front).
   constexpr std::size_t kChunk = 8192, kMaxChunks = 16;
   std::size_t n = 0;
   for (const WorkerOutput& o : pieces) n += o.front.size();
@@ -43,11 +43,11 @@ void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
         for (const NodePair& p : pieces[i].front) ++at[c * firsts + p.a];
   });
   std::vector<std::uint32_t> starts(firsts + 1, 0);  // where each first node's nodes start
-  for (std::size_t a = 0; a < firsts; ++a) {
-    std::uint32_t total = 0;
-    for (std::size_t c = 0; c < chunks; ++c) total += at[c * firsts + a];
-    starts[a + 1] = starts[a] + total;
-  }
+  ex.static_for(firsts, 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t a = b; a < e; ++a)
+      for (std::size_t c = 0; c < chunks; ++c) starts[a + 1] += at[c * firsts + a];
+  });
+  for (std::size_t a = 0; a < firsts; ++a) starts[a + 1] += starts[a];
   ex.static_for(firsts, 4096, [&](std::size_t b, std::size_t e) {
     for (std::size_t a = b; a < e; ++a) {
       std::uint32_t next = starts[a];
