@@ -112,11 +112,11 @@ class Bvtt {
         const std::uint64_t before = out.pair_work();
         const std::size_t stops = out.front.size();
         visit<record>(n, out, st);
-        const auto pairs = static_cast<std::size_t>((out.pair_work() - before) / kPairsPerUnit);
-        work += std::max<std::size_t>(kLeafPairWork, pairs);
+        const std::uint64_t done = out.pair_work() - before;
+        work += std::max<std::size_t>(kLeafPairWork, static_cast<std::size_t>(done / kPairsPerUnit));
         // recorded as the next front's stop: noted for its cuts when costly
         if constexpr (record)
-          if (out.front.size() != stops) out.note_leaf_pair(stops, before);
+          if (out.front.size() != stops) out.note_leaf_pair(stops, done);
       } else {
         ++work;
         visit<record>(n, out, st);

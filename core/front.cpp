@@ -92,7 +92,7 @@ void BvttFront::build(WorkerOutputs& pieces, const Executor& ex) {
     for (std::size_t i = b; i < e; ++i) pieces[i].front = std::vector<NodePair>();
   });
   next_ = LargeVector<NodePair>();
-  cut({Part{0, n, work, costly.data(), costly.size()}});
+  cut({Part{0, n, work, costly}});
   valid_ = true;
   sprouted_since_build_ = invalidated_since_build_ = 0;
 }
@@ -124,7 +124,7 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
   nodes_.swap(next_);
   std::vector<Part> parts(num_blocks);
   for (std::size_t b = 0; b < num_blocks; ++b)
-    parts[b] = {at[b], at[b + 1], work_of(blocks[b].stats), blocks[b].costly.data(), blocks[b].costly.size()};
+    parts[b] = {at[b], at[b + 1], work_of(blocks[b].stats), blocks[b].costly};
   cut(parts);
   const double L = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
   if (static_cast<double>(sprouted_since_build_) > sprout_ratio * L ||
@@ -175,12 +175,11 @@ void BvttFront::cut(const std::vector<Part>& parts) {
     const std::size_t size = p.end - p.begin;
     if (size == 0) continue;
     double rest = p.work;
-    for (std::size_t k = 0; k < p.num_costly; ++k) rest -= double(p.costly[k].work);
-    const std::size_t plain = size - p.num_costly;
+    for (const CostlyNode& c : p.costly) rest -= double(c.work);
+    const std::size_t plain = size - p.costly.size();
     const double each = (plain > 0 ? std::max(rest, 0.0) / double(plain) : 0.0) + kNodeWork;
     std::size_t i = p.begin;
-    for (std::size_t k = 0; k < p.num_costly; ++k) {
-      const CostlyNode& c = p.costly[k];
+    for (const CostlyNode& c : p.costly) {
       MCCD_ASSERT(p.begin + c.at >= i && c.at < size, "costly nodes out of order");
       run(i, p.begin + c.at, each);
       run(p.begin + c.at, p.begin + c.at + 1, double(c.work) + kNodeWork);

@@ -7,6 +7,7 @@
 /// here.
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <mccd/core/bvtt_node.h>
@@ -99,8 +100,7 @@ class BvttFront {
   struct Part {
     std::size_t begin, end;
     double work;
-    const CostlyNode* costly;
-    std::size_t num_costly;
+    std::span<const CostlyNode> costly;
   };
   /// Cuts the front into blocks of about equal work: each part's costly nodes where they lie,
   /// the rest of its work spread evenly over its other nodes.
@@ -155,7 +155,7 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
         // its work, as the next cuts count it: the feature pairs it tested and those it queued
         const std::uint64_t before = out.pair_work();
         bvtt.leaf().process(n.a, n.b, ov, out);
-        out.note_leaf_pair(out.front.size(), before);
+        out.note_leaf_pair(out.front.size(), out.pair_work() - before);
       }
       out.front.push_back(n);
     } else if (!ov) {

@@ -111,10 +111,10 @@ struct WorkerOutput {
   /// difference over a leaf pair weighs it (front cuts, traversal budgets), whatever ran the
   /// queue in between.
   std::uint64_t pair_work() const { return stats.feature_box_tests + kQueuedPairWork * queued.total(); }
-  /// Notes the front node at `at` as costly when its leaf pair's work (its set-up and the
-  /// pair_work() done since `before`) reaches CostlyNode::kCostlyWork.
-  void note_leaf_pair(std::size_t at, std::uint64_t before) {
-    const std::uint64_t work = CostlyNode::kLeafPairWork + (pair_work() - before);
+  /// Notes the front node at `at` as costly when its leaf pair's work (its set-up and
+  /// `pair_work`, the pair_work() it added) reaches CostlyNode::kCostlyWork.
+  void note_leaf_pair(std::size_t at, std::uint64_t pair_work) {
+    const std::uint64_t work = CostlyNode::kLeafPairWork + pair_work;
     if (work >= CostlyNode::kCostlyWork)
       costly.push_back(
           {static_cast<std::uint32_t>(at), static_cast<std::uint32_t>(std::min<std::uint64_t>(work, 0xffffffffu))});
