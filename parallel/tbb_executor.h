@@ -12,11 +12,15 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <type_traits>
+#include <vector>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_invoke.h>
 #include <oneapi/tbb/partitioner.h>
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <mccd/core/executor.h>
 #include <mccd/core/stats.h>
@@ -99,12 +103,85 @@ class LoopTimer {
 /// The recorder of the stage this thread runs, or nullptr.
 inline WorkSpanRecorder* loop_recorder() { return tl_work_span; }
 
+/// Chunks of a loop dealt out to its workers: each worker takes the chunks of its own run of
+/// them, in order (neighbouring chunks share data: a front's cache-ordered blocks, a leaf's
+/// lanes), then takes what is left of the others' runs, one chunk at a time. A chunk costs
+/// one atomic add on a counter that, until the end of the loop, only its owner touches.
+class ChunkDealer {
+ public:
+  ChunkDealer(std::size_t chunks, std::size_t workers) : workers_(workers), runs_(workers) {
+    for (std::size_t w = 0; w < workers; ++w) {
+      runs_[w].next.store(chunks * w / workers, std::memory_order_relaxed);
+      runs_[w].end = chunks * (w + 1) / workers;
+    }
+  }
+  /// Worker `me` runs take(chunk) for every chunk it wins, until none is left or the loop is
+  /// cancelled (a chunk threw).
+  template <class Take>
+  void work(std::size_t me, const Take& take) {
+    for (std::size_t d = 0; d < workers_; ++d) {
+      Run& r = runs_[(me + d) % workers_];
+      for (std::size_t c; (c = r.next.fetch_add(1, std::memory_order_relaxed)) < r.end;) {
+        if (tbb::is_current_task_group_canceling()) return;
+        take(c);
+      }
+    }
+  }
+
+ private:
+  struct alignas(64) Run {  // a cache line each: a worker's adds do not slow the others'
+    std::atomic<std::size_t> next{0};
+    std::size_t end = 0;
+  };
+  std::size_t workers_;
+  std::vector<Run> runs_;
+};
+
+/// body(begin, end) over the chunks [k grain, (k + 1) grain) of [0, n), dealt out to as many
+/// workers as the arena has threads (ChunkDealer; fewer for fewer chunks). A chunk runs
+/// isolated: a thread that waits inside it for a loop of its own runs only that loop's
+/// tasks, never another worker of this loop (which would hold the chunk until the loop ends).
+/// Timed per chunk when the stage is measured. One worker runs on the calling thread, without
+/// a task.
+template <class Body>
+void dealt_for(std::size_t n, std::size_t grain, const Body& body) {
+  const std::size_t chunks = (n + grain - 1) / grain;
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t workers = std::min(chunks, threads);
+  auto run = [&](const auto& chunk) {
+    if (workers == 1) {
+      for (std::size_t c = 0; c < chunks; ++c) chunk(c);
+      return;
+    }
+    ChunkDealer dealer(chunks, workers);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, workers, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t w = r.begin(); w != r.end(); ++w)
+            dealer.work(w, [&](std::size_t c) { tbb::this_task_arena::isolate([&] { chunk(c); }); });
+        },
+        tbb::simple_partitioner());
+  };
+  if (WorkSpanRecorder* recorder = loop_recorder()) {
+    LoopTimer timer(*recorder);
+    run([&](std::size_t c) { timer.task([&] { body(c * grain, std::min(n, (c + 1) * grain)); }); });
+    return;
+  }
+  run([&](std::size_t c) { body(c * grain, std::min(n, (c + 1) * grain)); });
+}
+
 /// body(begin, end) over chunks of about `grain` of [0, n) under `partitioner` (timed when the
-/// stage is measured).
+/// stage is measured). Under tbb::simple_partitioner (chunks handed out one at a time) the
+/// chunks are dealt out instead (dealt_for): a chunk then costs an atomic add where the
+/// partitioner split the range into tasks, one spawn for each.
 template <class Body, class Partitioner>
 void chunked_for(std::size_t n, std::size_t grain, const Body& body, const Partitioner& partitioner) {
   if (n <= grain) {
     if (n) body(std::size_t(0), n);
+    return;
+  }
+  if constexpr (std::is_same_v<Partitioner, tbb::simple_partitioner>) {
+    dealt_for(n, grain, body);
     return;
   }
   const tbb::blocked_range<std::size_t> range(0, n, grain);
