@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <mccd/core/executor.h>
 #include <mccd/core/query.h>
 #include <mccd/core/worker_output.h>
 #include <mccd/geometry/ccd.h>
@@ -160,14 +161,48 @@ class FeatureTests {
     return p;
   }
 
-  /// The narrow phase of every queued pair, in order (until the query stops); found(leaf_a,
-  /// leaf_b) for each pair that adds a contact. In a full step the fast path of the elementary
-  /// tests runs for several pairs at a time too (LaneKernels::fast_tests), for the pairs whose
-  /// filter the vector filter decided; what it leaves open goes through the narrow phase one
-  /// by one. The contacts, their order and every count are those of the narrow phase alone.
+  /// Queued pairs per piece of a queue whose pieces run in parallel (set_executor()), and the
+  /// pairs a unit (a front block, a task) must have queued before its queues are cut so.
+  static constexpr std::size_t kPiece = 128, kHeavyUnit = 4 * kQueue;
+
+  /// With an executor (nullptr: none), the queues of a heavy unit run in parallel pieces
+  /// (run_queued()): a contact region whose leaf pairs queue thousands of feature pairs is
+  /// otherwise one task's narrow phase, the longest of a step on many threads. Other units'
+  /// queues run whole, without the pieces' cost.
+  void set_executor(const Executor* executor) { executor_ = executor; }
+
+  /// The narrow phase of every queued pair (until the query stops); found(leaf_a, leaf_b) for
+  /// each pair that adds a contact. With an executor, once the unit has queued kHeavyUnit
+  /// pairs, in pieces of kPiece pairs in parallel, each into its own output, then added to
+  /// `out` in order: the same contacts in the same order and the same counts as in one piece.
   template <class Found>
   void run_queued(WorkerOutput& out, const Found& found) const {
-    PairQueue& q = out.queued;
+    const std::size_t n = out.queued.size();
+    const QueuedPair* q = out.queued.data();
+    if (!executor_ || n < 2 * kPiece || out.queued.total() < kHeavyUnit) {
+      run_pairs(q, n, out, found);
+    } else {
+      const std::size_t pieces = (n + kPiece - 1) / kPiece;
+      std::vector<WorkerOutput> parts(pieces - 1);  // piece 0 writes to `out` itself
+      executor_->dynamic_for(pieces, 1, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k != e; ++k)
+          run_pairs(q + k * kPiece, std::min(kPiece, n - k * kPiece), k == 0 ? out : parts[k - 1], found);
+      });
+      for (const WorkerOutput& part : parts) {
+        out.contacts.insert(out.contacts.end(), part.contacts.begin(), part.contacts.end());
+        out.stats += part.stats;
+      }
+    }
+    out.queued.clear();
+  }
+
+  /// The narrow phase of the queued pairs w0[0, count), in order, into `out` (its contacts and
+  /// counts only). In a full step the fast path of the elementary tests runs for several pairs
+  /// at a time too (LaneKernels::fast_tests), for the pairs whose filter the vector filter
+  /// decided; what it leaves open goes through the narrow phase one by one. The contacts, their
+  /// order and every count are those of the narrow phase alone.
+  template <class Found>
+  void run_pairs(const QueuedPair* w0, std::size_t count, WorkerOutput& out, const Found& found) const {
     const bool prefilter = prefilters();
     const bool batch = prefilter && query_.kind() == StepKind::Full;
     constexpr std::size_t kWindow = 2 * kQueue;
@@ -182,9 +217,9 @@ class FeatureTests {
     enum : std::uint8_t { kSkip, kNarrow, kFast };
     std::uint8_t action[kWindow], quarters_at[kWindow], decided[kWindow];
     double toi_at[kWindow], toi_lanes[kWindow];
-    for (std::size_t first = 0; first < q.size() && !query_.stopped(); first += kWindow) {
-      const std::size_t n = std::min(kWindow, q.size() - first);
-      const QueuedPair* w = q.data() + first;
+    for (std::size_t first = 0; first < count && !query_.stopped(); first += kWindow) {
+      const std::size_t n = std::min(kWindow, count - first);
+      const QueuedPair* w = w0 + first;
       std::fill(filtered, filtered + n, kUndecided);
       if (prefilter) {
         // ids and quarters gathered in one pass (the filter decides each pair on its own, in
@@ -257,7 +292,6 @@ class FeatureTests {
         narrow_queued(p, quarters, known(p, filtered[i], quarters) ? filtered[i] : kUndecided, out, found);
       }
     }
-    q.clear();
   }
 
   /// An earliest-impact query skips what cannot meet before the best time found so far.
@@ -412,6 +446,7 @@ class FeatureTests {
   const Positions& x1_;
   QueryState& query_;
   NarrowPhase narrow_;
+  const Executor* executor_ = nullptr;
 };
 
 }  // namespace mccd::detail

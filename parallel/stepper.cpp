@@ -110,6 +110,9 @@ StepResult Stepper<BV>::step(Method method, StepKind kind, bool continues, std::
   } done{running_};
   method_ = method;
   full_ = kind == StepKind::Full;
+  // The parallel methods run a heavy unit's queues of feature pairs in parallel pieces; the
+  // serial traversal and brute force keep theirs on one thread.
+  tests_.set_executor(method == Method::Fbd || method == Method::Phc ? &tbb_executor() : nullptr);
   // Leaves that repeat the previous step are skipped only right after a full step that
   // processed its leaf pairs; a query forgets it (its positions are not the scene's).
   if (full_ && scene_.representatives() == Representatives::Leaf)
