@@ -108,7 +108,22 @@ int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const
                        std::max(max_norm(w0), max_norm(w1));
   const int s0 = certain_sign(d[0], scale), s1 = certain_sign(d[1], scale), s2 = certain_sign(d[2], scale),
             s3 = certain_sign(d[3], scale);
-  return s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3 ? s0 : 0;
+  if (s0 != 0 && s0 == s1 && s1 == s2 && s2 == s3) return s0;
+  // The cubic split at t = 1/2 (de Casteljau): with b = (d0, d1 / 3, d2 / 3, d3) its Bernstein
+  // coefficients, each half's inner ones times 6 or 12 are the sums below, of weight 4 or 6
+  // (the sum of their factors). A body turning by more than 120 degrees in the step (a rigid
+  // turn by angle a scales the cubic by a quadratic whose middle coefficient is cos a) keeps its
+  // sign on [0, 1] with middle coefficients of the wrong sign; on the halves they have the
+  // right one up to 180 degrees. A sum of weight k is within about k * 12u * scale of its exact
+  // value plus its own roundings (a few u * k * scale): certain beyond k * kBound3 * scale.
+  if (s0 == 0 || s0 != s3) return 0;
+  const double t0 = 3 * d[0], t3 = 3 * d[3], a12 = d[1] + d[2];
+  const double l1 = t0 + d[1], l2 = l1 + a12, mid = (d[0] + d[1]) + (d[2] + d[3]), r2 = a12 + (d[2] + t3),
+               r1 = d[2] + t3;
+  const double halves[5][2] = {{l1, 4}, {l2, 6}, {mid, 4}, {r2, 6}, {r1, 4}};
+  for (const auto& [h, weight] : halves)
+    if (certain_sign(h, weight * scale) != s0) return 0;
+  return s0;
 }
 
 unsigned SelfCulling::normal_signs_in_lanes(const LaneKernels& lanes, const double* x0, const double* x1,

@@ -609,8 +609,9 @@ inline void gather_triangles(const double* x0, const double* x1, const std::uint
   gather_points<3>(x0, x1, corners, m, p);
 }
 
-/// LaneKernels::star_signs: core/self_culling.cpp's star_sign, a triangle per lane, its
-/// operations in its order (Eigen's componentwise differences and sums, its cross and dot).
+/// LaneKernels::star_signs: core/self_culling.cpp's star_sign (with its split at t = 1/2), a
+/// triangle per lane, its operations in its order (Eigen's componentwise differences and sums,
+/// its cross and dot).
 void star_signs(const double* x0, const double* x1, const std::uint32_t (*corners)[3], std::size_t n, const double* m0,
                 const double* m1, double bound, double tiny, std::int8_t* signs) {
   using D = DOps;
@@ -637,6 +638,25 @@ void star_signs(const double* x0, const double* x1, const std::uint32_t (*corner
     for (const D::V v : d) {
       pos &= D::gt(v, hi);
       neg &= D::gt(lo, v);
+    }
+    // The lanes whose ends share a certain sign but not all four coefficients: the cubic split
+    // at t = 1/2, its five sums in star_sign's order of operations, each against its weight
+    // times the bound.
+    const unsigned ends_pos = ok & D::gt(d[0], hi) & D::gt(d[3], hi), ends_neg = ok & D::gt(lo, d[0]) & D::gt(lo, d[3]);
+    if (const unsigned open = (ends_pos | ends_neg) & ~(pos | neg)) {
+      const D::V k3 = D::set1(3), k4 = D::set1(4), k6 = D::set1(6);
+      const D::V t0 = D::mul(k3, d[0]), t3 = D::mul(k3, d[3]), a12 = D::add(d[1], d[2]);
+      const D::V l1 = D::add(t0, d[1]), l2 = D::add(l1, a12), mid = D::add(D::add(d[0], d[1]), D::add(d[2], d[3])),
+                 r2 = D::add(a12, D::add(d[2], t3)), r1 = D::add(d[2], t3);
+      const D::V s4 = D::mul(k4, scale), s6 = D::mul(k6, scale);
+      const D::V halves[5][2] = {{l1, s4}, {l2, s6}, {mid, s4}, {r2, s6}, {r1, s4}};
+      unsigned hp = ends_pos & open, hn = ends_neg & open;
+      for (const auto& h : halves) {
+        hp &= D::gt(h[0], D::mul(kb, h[1]));
+        hn &= D::gt(D::mul(knb, h[1]), h[0]);
+      }
+      pos |= hp;
+      neg |= hn;
     }
     for (unsigned i = 0; i < m; ++i) signs[first + i] = static_cast<std::int8_t>((pos >> i & 1u) - (neg >> i & 1u));
   }

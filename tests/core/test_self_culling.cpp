@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <array>
 #include <bit>
 #include <cmath>
@@ -17,6 +19,7 @@
 
 #include "fixtures/scenes.h"
 #include "fixtures/shapes.h"
+#include "generators/meshes.h"
 #include "support/simd_levels.h"
 
 using namespace mccd;
@@ -608,6 +611,73 @@ TEST(SelfCulling, StarSignsHoldAtSampledTimesAndFailWhereTheOrientationTurns) {
   EXPECT_EQ(SelfCulling::star_sign(a, c, b, Vec3(0.2, 0.2, 1), a, c, b, Vec3(3, 3, 0.1)), -1);
 }
 
+TEST(SelfCulling, StarSignsHoldThroughLargeTurns) {
+  // A rigid turn by angle a about an axis through the viewpoint scales det(b - a, c - a, p - a)
+  // by a quadratic whose middle Bernstein coefficient is cos a: past 120 degrees the cubic's
+  // own coefficients disagree, but it keeps its sign up to 180 (split at t = 1/2, star_sign
+  // names it). Triangles around a moving point, turned by 10 to 179.9 degrees: every sign
+  // named, right at 65 sampled times (in long double), and the lanes' signs at every SIMD
+  // level are the scalar ones; a half turn flattens the triangle onto the axis mid-step (no
+  // sign).
+  const std::vector<const LaneKernels*> levels = test::available_levels();
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vec3 p0(0.1, 0.2, -0.3), p1(0.4, -0.1, 0.2);
+  constexpr std::size_t kTriangles = 600;
+  std::vector<double> x0(9 * kTriangles), x1(9 * kTriangles);
+  std::vector<std::array<std::uint32_t, 3>> corners(kTriangles);
+  std::vector<double> angles(kTriangles);
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    angles[t] = t + 1 == kTriangles ? 180 : 10 + 169.9 * double(t) / (kTriangles - 2);
+    const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::AngleAxisd turn(angles[t] * kPi / 180, axis);
+    // a small triangle facing away from the point, at distance 1 from it
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 e1 = dir.unitOrthogonal(), e2 = dir.cross(e1);
+    const Vec3 local[3] = {dir, dir + 0.2 * e1, dir + 0.2 * e2};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = p0 + local[k], b = p1 + turn * local[k];
+      for (int c = 0; c < 3; ++c) x0[9 * t + 3 * k + c] = a[c], x1[9 * t + 3 * k + c] = b[c];
+      corners[t][k] = static_cast<std::uint32_t>(3 * t + k);
+    }
+  }
+  auto point = [](const std::vector<double>& x, std::uint32_t v) { return Vec3(x[3 * v], x[3 * v + 1], x[3 * v + 2]); };
+  std::vector<std::int8_t> expected(kTriangles);
+  for (std::size_t t = 0; t < kTriangles; ++t) {
+    const auto& c = corners[t];
+    Vec3 q0[4] = {point(x0, c[0]), point(x0, c[1]), point(x0, c[2]), p0};
+    Vec3 q1[4] = {point(x1, c[0]), point(x1, c[1]), point(x1, c[2]), p1};
+    const int s = SelfCulling::star_sign(q0[0], q0[1], q0[2], q0[3], q1[0], q1[1], q1[2], q1[3]);
+    expected[t] = static_cast<std::int8_t>(s);
+    if (angles[t] == 180) {
+      EXPECT_EQ(s, 0) << "turned by " << angles[t] << " degrees";
+      continue;
+    }
+    ASSERT_NE(s, 0) << "turned by " << angles[t] << " degrees";
+    for (int i = 0; i <= 64; ++i) {
+      const long double tt = i / 64.0L;
+      long double q[4][3];
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 3; ++d) q[k][d] = (1 - tt) * (long double)q0[k][d] + tt * (long double)q1[k][d];
+      long double w[3][3];
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 3; ++d) w[k][d] = (k < 2 ? q[k + 1][d] : q[3][d]) - q[0][d];
+      const long double det = w[0][0] * (w[1][1] * w[2][2] - w[1][2] * w[2][1]) +
+                              w[0][1] * (w[1][2] * w[2][0] - w[1][0] * w[2][2]) +
+                              w[0][2] * (w[1][0] * w[2][1] - w[1][1] * w[2][0]);
+      ASSERT_TRUE(s > 0 ? det > 0 : det < 0) << "turned by " << angles[t] << " degrees, t " << double(tt);
+    }
+  }
+  const double m0[3] = {p0[0], p0[1], p0[2]}, m1[3] = {p1[0], p1[1], p1[2]};
+  const auto* ids = reinterpret_cast<const std::uint32_t(*)[3]>(corners.data());
+  for (const LaneKernels* k : levels) {
+    std::vector<std::int8_t> got(kTriangles);
+    SelfCulling::star_signs(*k, x0.data(), x1.data(), ids, kTriangles, m0, m1, got.data());
+    for (std::size_t t = 0; t < kTriangles; ++t)
+      ASSERT_EQ(got[t], expected[t]) << to_string(k->level) << " triangle " << t << ", " << angles[t] << " degrees";
+  }
+}
+
 namespace {
 /// One closed mesh moving from its vertices to `x1`: the contacts with culling (every method)
 /// equal brute force's; returns the patches certified by fbd.
@@ -664,6 +734,28 @@ TEST(SelfCulling, AClosedSurfaceIsCertifiedWholeOnlyWhileStarShaped) {
   Scene b({ball}, o);
   EXPECT_GT(b.advance({PositionsView(bent)}).stats.leaf_pairs, 0u);
   closed_step(ball, bent);
+}
+
+TEST(SelfCulling, AClosedSurfaceSpinningFastIsCertifiedWhole) {
+  // A rigid ball (and a cone) turned by 150 degrees in one step while drifting, as the
+  // n-body scene's bodies spin: every triangle keeps its orientation seen from the moving
+  // centre (the split cubic), so it is certified whole, its leaf pairs skipped, and every
+  // method still reports brute force's contacts.
+  const Eigen::AngleAxisd turn(150 * kPi / 180, Vec3(0.3, -0.5, 0.8).normalized());
+  for (const TriMesh& body : {make_sphere_mesh(10, 20), gen::make_cone(24, 0.5, 1.2)}) {
+    Vec3 mean = Vec3::Zero();
+    for (std::size_t v = 0; v < body.vertices.rows(); ++v) mean += body.vertices.point(v);
+    mean /= double(body.vertices.rows());
+    Positions x1(body.vertices.rows());
+    for (std::size_t v = 0; v < x1.rows(); ++v)
+      x1.set_point(v, mean + Vec3(0.2, 0.1, -0.3) + turn * (body.vertices.point(v) - mean));
+    Scene s({body});
+    const StepResult r = s.advance({PositionsView(x1)});
+    EXPECT_EQ(r.stats.culled_patches, 1u) << body.vertices.rows() << " vertices";
+    EXPECT_EQ(r.stats.leaf_pairs, 0u);
+    EXPECT_TRUE(r.contacts.empty());
+    EXPECT_EQ(closed_step(body, x1), 1u);
+  }
 }
 
 TEST(SelfCulling, ASurfaceWoundTwiceAroundItsCentreIsNotCertified) {
