@@ -141,8 +141,8 @@ class ChunkDealer {
 /// workers as the arena has threads (ChunkDealer; fewer for fewer chunks). A chunk runs
 /// isolated: a thread that waits inside it for a loop of its own runs only that loop's
 /// tasks, never another worker of this loop (which would hold the chunk until the loop ends).
-/// Timed per chunk when the stage is measured. One worker runs on the calling thread, without
-/// a task.
+/// Timed per chunk when the stage is measured. With one worker (one thread, or one chunk) the
+/// chunks run in order on the calling thread, without a task.
 template <class Body>
 void dealt_for(std::size_t n, std::size_t grain, const Body& body) {
   const std::size_t chunks = (n + grain - 1) / grain;
