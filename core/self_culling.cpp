@@ -142,12 +142,32 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
                                  const Triangle* leaf_corners) const {
   const std::uint32_t node = closed_[k];
   // c(t): the mean of the component's vertices at each end (any point would do; this one is
-  // inside a star-shaped body).
-  Vec3 m0 = Vec3::Zero(), m1 = Vec3::Zero();
+  // inside a star-shaped body). Summed in blocks of a fixed size, in parallel for a large
+  // surface (a serial pass was most of a large body's certificate on many threads), the
+  // blocks' sums added in order: the same mean on any number of threads.
+  constexpr std::uint32_t kMeanBlock = 4096;
   const std::uint32_t vb = closed_vertex_begin_[k], ve = closed_vertex_begin_[k + 1];
-  for (std::uint32_t i = vb; i != ve; ++i) {
-    m0 += x0.point(closed_vertices_[i]);
-    m1 += x1.point(closed_vertices_[i]);
+  auto block_sum = [&](std::uint32_t b, std::uint32_t e, Vec3& s0, Vec3& s1) {
+    s0 = Vec3::Zero(), s1 = Vec3::Zero();
+    for (std::uint32_t i = b; i != e; ++i) {
+      s0 += x0.point(closed_vertices_[i]);
+      s1 += x1.point(closed_vertices_[i]);
+    }
+  };
+  Vec3 m0, m1;
+  if (ve - vb <= kMeanBlock) {
+    block_sum(vb, ve, m0, m1);
+  } else {
+    const std::uint32_t blocks = (ve - vb + kMeanBlock - 1) / kMeanBlock;
+    std::vector<Vec3> sums(2 * std::size_t(blocks));
+    ex.dynamic_for(blocks, 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t j = b; j != e; ++j) {
+        const std::uint32_t from = vb + static_cast<std::uint32_t>(j) * kMeanBlock;
+        block_sum(from, std::min(ve, from + kMeanBlock), sums[2 * j], sums[2 * j + 1]);
+      }
+    });
+    m0 = sums[0], m1 = sums[1];
+    for (std::uint32_t j = 1; j < blocks; ++j) m0 += sums[2 * j], m1 += sums[2 * j + 1];
   }
   m0 /= double(ve - vb);
   m1 /= double(ve - vb);
@@ -371,7 +391,8 @@ bool SelfCulling::contour_simple(const std::uint32_t* begin, const std::uint32_t
 }
 
 void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
-                          const Executor& ex, const RayMeets& ray_meets, const Triangle* leaf_corners) {
+                          const Executor& ex, const RayMeets& ray_meets, const Triangle* leaf_corners,
+                          const Repeats& repeats) {
   const LaneKernels& lanes = lane_kernels();
   const std::uint32_t n = static_cast<std::uint32_t>(bvh.size());
   const auto& faces = topo.faces();
@@ -384,13 +405,21 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
         // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
         // surface that is not star-shaped from its mean costs a pass over its triangles for
         // nothing. A success starts over.
+        // A surface whose step repeats the last call's keeps that call's outcome (the
+        // certificate is a function of its corners' positions and its nodes' volumes).
+        if (closed_last_[k] != kUnknown && repeats && repeats(closed_[k])) {
+          closed_ok_[k] = closed_last_[k];
+          continue;
+        }
         Backoff& o = closed_backoff_[k];
         closed_ok_[k] = 0;
+        closed_last_[k] = kUnknown;
         if (o.skip) {
           --o.skip;
           continue;
         }
         closed_ok_[k] = certify_closed(k, bvh, topo, x0, x1, ex, ray_meets, leaf_corners);
+        closed_last_[k] = closed_ok_[k];
         o.failures = closed_ok_[k] ? 0 : std::min(o.failures + 1, 6);
         o.skip = (1 << o.failures) - 1;
       }

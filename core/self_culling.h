@@ -81,13 +81,18 @@ class SelfCulling {
   /// along `direction` certainly meets no triangle of `node` at the start of the step (its
   /// volume is apart from the ray); it lets the closed-surface certificate skip subtrees.
   using RayMeets = std::function<bool(std::uint32_t, const Vec3&, const Vec3&)>;
+  /// `repeats(node)`, when given: true only when every corner of the node's triangles has bit
+  /// for bit the start and end positions it had in the previous call (and the node's volume is
+  /// the one it had then); a closed surface that repeats keeps the outcome of its certificate
+  /// from that call instead of computing it again (a body at rest given as deforming).
+  using Repeats = std::function<bool(std::uint32_t)>;
   /// Loops through `ex`; the certificates do not depend on it. `leaf_corners` (nullptr: none):
   /// each triangle's corners in the BVH's leaf order (entry bvh.leaf_first(leaf) + k for
   /// bvh.leaf_triangles(leaf)[k]; LeafOwnership::face_corners), read instead of the mesh's
   /// faces through the leaves' triangle ids.
   void certify(const BvhTopology& bvh, const MeshTopology& topo, const Positions& x0, const Positions& x1,
                const Executor& ex = serial_executor(), const RayMeets& ray_meets = {},
-               const Triangle* leaf_corners = nullptr);
+               const Triangle* leaf_corners = nullptr, const Repeats& repeats = {});
   /// Nothing is covered (a step that does not cull: brute force, or culling off).
   void clear() { active_ = false; }
 
@@ -145,6 +150,10 @@ class SelfCulling {
   std::vector<std::uint32_t> closed_vertex_begin_, closed_vertices_;  ///< CSR over closed_: vertex ids
   std::vector<std::uint32_t> closed_above_;  ///< per node: index in closed_ of the closed node above, or kNone
   std::vector<std::uint8_t> closed_ok_;      ///< per index of closed_, this step: certified
+  /// per index of closed_: the outcome of its certificate in the last call (kUnknown: not
+  /// computed then)
+  std::vector<std::uint8_t> closed_last_;
+  static constexpr std::uint8_t kUnknown = 2;
   struct Backoff {
     int failures = 0, skip = 0;  ///< failures in a row; steps left without a try
   };

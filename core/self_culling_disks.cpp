@@ -372,6 +372,7 @@ void SelfCulling::find_closed(const BvhTopology& bvh, const SceneTopology& scene
     i = end;
   }
   closed_ok_.assign(closed_.size(), 0);
+  closed_last_.assign(closed_.size(), kUnknown);
   closed_backoff_.assign(closed_.size(), Backoff{});
 }
 

@@ -107,6 +107,17 @@ class UnchangedLeaves {
     return same;
   }
 
+  /// Whether every leaf under BVH node `node` repeats the previous full step (only when
+  /// active(), after the refit marked the leaves): all their corners' positions are the ones
+  /// they had then, and so are the volumes of the node and of every node below it.
+  template <class Bvh>
+  bool subtree_repeats(std::uint32_t node, const Bvh& bvh) const {
+    if (!active_) return false;
+    for (std::uint32_t i = node, end = node + bvh.subtree_size(node); i != end; ++i)
+      if (bvh.leaf(i) && !unchanged_[i]) return false;
+    return true;
+  }
+
   /// Whether leaf pair (a, b) (a == b: one leaf's own pairs) finds nothing, as before.
   bool skip(std::uint32_t a, std::uint32_t b) const {
     return active_ && (unchanged_[a] & unchanged_[b] & !touched_before_[a] & !touched_before_[b]);

@@ -156,10 +156,14 @@ void refit_stage(const RefitPlan& plan, const BvhTopology& bvh, const LeafOwners
     // A node's first-quarter box holds its triangles at the start of the step; the ray test
     // grows it by far more than the rounding of its double arithmetic before it rules a node
     // out.
+    // A closed surface whose leaves all repeat the previous full step keeps its certificate
+    // from then (the previous full step certified too: it was not brute force).
+    SelfCulling::Repeats repeats;
+    if (unchanged.active()) repeats = [&](std::uint32_t n) { return unchanged.subtree_repeats(n, bvh); };
     culling.certify(
         bvh, topo, x0, x1, tbb_executor(),
         [&](std::uint32_t n, const Vec3& o, const Vec3& d) { return ray_meets_box(nodes[n], o, d); },
-        owners.face_corners_in_order());
+        owners.face_corners_in_order(), repeats);
     stats.culled_patches = culling.certified();
   } else {
     culling.clear();

@@ -55,17 +55,16 @@ def main():
     steps = len(frames) - 1
     triangles = sum(len(f) for _, f, _ in meshes)
 
-    # the measured runs: each stage's least work and span of three, the least time outside
+    # the measured runs: each stage's least work and span of three; the time outside the
+    # stages run by run (a run's time less its stages' work), the least of three
     least = {name: [float("inf"), float("inf")] for name in STAGES}
-    engine = float("inf")
+    outside = float("inf")
     for _ in range(3):
         _, total, sums = run(meshes, frames, 1, True)
-        engine = min(engine, total)
+        outside = min(outside, max(0.0, total - sum(w for w, _ in sums.values())))
         for name in STAGES:
             least[name][0] = min(least[name][0], sums[name][0])
             least[name][1] = min(least[name][1], sums[name][1])
-    staged = sum(w for w, _ in least.values())
-    outside = max(0.0, engine - staged)
 
     def predicted(p):
         return outside + sum(s + (w - s) / p for w, s in least.values())

@@ -213,8 +213,9 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
     o << "\n## Work and span\n\nEach method three times on 1 thread with its stages' work and span measured "
          "(every task of every\nparallel loop timed, nested loops and invokes at every depth; the search and the self "
          "stage as one branch;\neach stage's least work and span of the three; positions in: the step's positions "
-         "checked and copied\nin before the stages; outside the stages: the least wall time of the three less "
-         "those works, counted\nas serial: what runs in no stage, and on one thread the loops' scheduling and timing). "
+         "checked and copied\nin before the stages; outside the stages: the least, of the three runs, of a run's wall "
+         "time less its\nstages' work, counted as serial: what runs in no stage, and on one thread the loops' "
+         "scheduling and\ntiming). "
          "Predicted ms/frame on P threads: the "
          "time outside the\nstages plus, per stage, span + (work - span) / P; beside it the measured median (error = "
          "predicted /\nmeasured - 1). Memory bandwidth and scheduling costs are not in the model. Last: the same prediction\n"
@@ -229,8 +230,9 @@ std::string report_markdown(const MachineInfo& m, const std::vector<SceneSummary
           {"update", s.ws_update}, {"refit", s.ws_refit}, {"search", s.ws_search},
           {"self", s.ws_self},     {"search + self", s.ws_branch}, {"join", s.ws_join},
           {"positions in", s.ws_input}};
-      // what the prediction counts as serial: the least wall time less the stages' least work
-      const double outside = std::max(0.0, v.counts.wall_ms / 1e3 - s.staged_work());
+      // what the prediction counts as serial (predicted_ms)
+      const double outside = v.counts.outside_ms >= 0 ? v.counts.outside_ms / 1e3
+                                                      : std::max(0.0, v.counts.wall_ms / 1e3 - s.staged_work());
       for (const auto& [name, ws] : stages)
         o << "| " << v.scene << " | " << to_string(v.method) << " | " << name << " | " << num(1e3 * ws.work * k, 3)
           << " | " << num(1e3 * ws.span * k, 3) << " | " << num(ws.span > 0 ? ws.work / ws.span : NAN, 1) << " |\n";

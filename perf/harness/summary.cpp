@@ -62,7 +62,8 @@ double amdahl_speedup(double s, int threads) { return 1.0 / (s + (1 - s) / threa
 
 double predicted_ms(const RunRecord& measured, int threads) {
   StepStats s = measured.sum;
-  s.t_total = measured.wall_ms / 1e3;  // the whole of every step, as the timed runs measure it
+  // the whole of every step, as the timed runs measure it: the stages and the time outside them
+  s.t_total = measured.outside_ms >= 0 ? s.staged_work() + measured.outside_ms / 1e3 : measured.wall_ms / 1e3;
   return 1e3 * s.predicted_seconds(threads) / std::max(measured.intervals, 1);
 }
 

@@ -27,6 +27,9 @@ struct RunRecord {
   int steps = 0, intervals = 0;
   double wall_ms = 0;        ///< wall-clock time of all steps (Scene::advance calls)
   double first_step_ms = 0;  ///< of the first step (where fbd builds its front)
+  /// Work-span records: the least, over their runs, of a run's wall time less the work of its
+  /// stages (ms; what the prediction counts as serial). Negative: not measured.
+  double outside_ms = -1;
   StepStats sum;             ///< counts and stage times (seconds) over all steps
   std::uint64_t contacts = 0;
   /// Over the steps that built the front from the root (fbd): how many, the front nodes

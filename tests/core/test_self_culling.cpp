@@ -7,6 +7,7 @@
 #include <mccd/geometry/lane_masks.h>
 
 #include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <Eigen/Geometry>
 
@@ -755,6 +756,64 @@ TEST(SelfCulling, AClosedSurfaceSpinningFastIsCertifiedWhole) {
     EXPECT_EQ(r.stats.leaf_pairs, 0u);
     EXPECT_TRUE(r.contacts.empty());
     EXPECT_EQ(closed_step(body, x1), 1u);
+  }
+}
+
+TEST(SelfCulling, AClosedSurfaceThatRepeatsKeepsItsLastOutcome) {
+  // certify() given `repeats`: a closed surface said to repeat the last call keeps that call's
+  // outcome without computing it (the caller promises the same positions, so it is the same);
+  // without `repeats` it is computed again, and that outcome is what the next call keeps.
+  // Given positions that differ, the kept outcome shows that nothing was computed.
+  const TriMesh ball = make_sphere_mesh(10, 20);
+  Built g({ball}, 4);
+  SelfCulling c(g.bvh, g.scene);
+  ASSERT_TRUE(c.closed(0));
+  const Positions& x0 = ball.vertices;
+  Positions pulse(x0.rows()), dent(x0.rows());
+  for (std::size_t v = 0; v < x0.rows(); ++v) {
+    const Vec3 p = x0.point(v);
+    pulse.set_point(v, (1.0 + 0.1 * std::sin(4 * p.x() + 3 * p.z())) * p);
+    dent.set_point(v, p.z() > 0.6 ? Vec3(p.x(), p.y(), p.z() - 1.9) : p);
+  }
+  const SelfCulling::Repeats all = [](std::uint32_t) { return true; }, none = [](std::uint32_t) { return false; };
+  auto whole = [&] { return c.covered(0) && c.certified() == 1; };
+  c.certify(g.bvh, g.scene.topology(), x0, pulse);
+  ASSERT_TRUE(whole());
+  c.certify(g.bvh, g.scene.topology(), x0, dent, serial_executor(), {}, nullptr, all);
+  EXPECT_TRUE(whole()) << "kept from the last call";
+  c.certify(g.bvh, g.scene.topology(), x0, dent, serial_executor(), {}, nullptr, none);
+  EXPECT_FALSE(c.covered(0)) << "computed: the dented ball is not star-shaped";
+  c.certify(g.bvh, g.scene.topology(), x0, pulse, serial_executor(), {}, nullptr, all);
+  EXPECT_FALSE(c.covered(0)) << "the failure kept";
+  // a failure holds the next computation off (the back-off): then nothing is known to keep
+  c.certify(g.bvh, g.scene.topology(), x0, pulse);
+  EXPECT_FALSE(c.covered(0)) << "held off";
+  c.certify(g.bvh, g.scene.topology(), x0, pulse, serial_executor(), {}, nullptr, all);
+  EXPECT_TRUE(whole()) << "nothing to keep: computed";
+  c.certify(g.bvh, g.scene.topology(), x0, dent, serial_executor(), {}, nullptr, all);
+  EXPECT_TRUE(whole()) << "kept";
+}
+
+TEST(SelfCulling, ALargeClosedSurfaceIsCertifiedTheSameOnAnyNumberOfThreads) {
+  // Its centre is summed in blocks (in parallel), the blocks' sums added in order: the same
+  // point, so the same certificate and contacts, whatever the threads.
+  const TriMesh ball = make_sphere_mesh(48, 96);
+  ASSERT_GT(ball.vertices.rows(), 4096u) << "one block only: the test needs a larger surface";
+  Positions x1(ball.vertices.rows());
+  for (std::size_t v = 0; v < x1.rows(); ++v) {
+    const Vec3 p = ball.vertices.point(v);
+    x1.set_point(v, Vec3(0.1, 0.2, -0.1) + (1.0 + 0.05 * std::sin(5 * p.y() + 2 * p.x())) * p);
+  }
+  std::vector<StepResult> results;
+  for (int threads : {1, 2, 3, 8}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      Scene s({ball});
+      results.push_back(s.advance({PositionsView(x1)}));
+    });
+    EXPECT_EQ(results.back().stats.culled_patches, 1u) << threads << " threads";
+    EXPECT_EQ(results.back().stats.leaf_pairs, 0u) << threads << " threads";
+    EXPECT_EQ(results.back().contacts, results.front().contacts) << threads << " threads";
   }
 }
 

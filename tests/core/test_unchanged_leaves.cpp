@@ -166,6 +166,37 @@ TEST(UnchangedLeaves, AClothAtRestOnAStaticBallSkipsItsPairsWithTheBall) {
   EXPECT_GT(contacts, 0u);
 }
 
+TEST(UnchangedLeaves, ABallAtRestKeepsItsCertificateUntilItDentsItself) {
+  // A ball given as deforming rests for some steps beside a cloth that keeps folding (its
+  // certificate is kept from step to step), then its top cap is pushed down through its
+  // bottom: that step it collides with itself, its certificate is computed again and fails,
+  // and every step reports a fresh scene's contacts (which brute force confirms).
+  const AnimatedScene folding = make_folding_cloth(10, 8);
+  const TriMesh ball = make_sphere_mesh(8, 16, 0.5, Vec3(0.0, 0.0, 3.0));
+  Positions dent(ball.vertices.rows());
+  for (std::size_t v = 0; v < dent.rows(); ++v) {
+    const Vec3 p = ball.vertices.point(v);
+    dent.set_point(v, p.z() > 3.3 ? Vec3(p.x(), p.y(), p.z() - 0.95) : p);
+  }
+  AnimatedScene a;
+  a.meshes = {folding.meshes[0], ball};
+  const std::size_t dent_at = folding.frames.size() - 2;
+  for (std::size_t f = 0; f < folding.frames.size(); ++f)
+    a.frames.push_back({folding.frames[f][0], f < dent_at ? ball.vertices : dent});
+  Scene s(a.meshes);
+  for (std::size_t f = 1; f < a.frames.size(); ++f) {
+    const StepResult r = s.advance(views(a.frames[f]));
+    ASSERT_EQ(r.contacts, fresh_step(a, f).contacts) << "step " << f;
+    ASSERT_EQ(r.contacts, fresh_step(a, f, Method::BruteForce).contacts) << "step " << f;
+    const bool ball_contacts = std::any_of(r.contacts.begin(), r.contacts.end(), [&](const Contact& c) {
+      return c.mesh_a == 1 && c.mesh_b == 1;
+    });
+    if (f <= dent_at) {
+      EXPECT_EQ(ball_contacts, f == dent_at) << "step " << f;
+    }
+  }
+}
+
 TEST(UnchangedLeaves, AStepFromTheLastEndSkipsLikeAdvance) {
   // Scene::step with the last step's end as its start continues it (the frame pipeline's
   // way): it skips what advance() skips. A start one bit off the last end skips nothing, nor
