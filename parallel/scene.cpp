@@ -52,6 +52,7 @@ struct Scene::Impl {
   struct InputPiece {
     std::uint32_t mesh;
     std::size_t b, e;
+    bool compare;  ///< a static mesh's positions, compared with its own (not copied)
   };
   std::vector<InputPiece> input_pieces;
   std::vector<std::size_t> input_tasks;
@@ -131,7 +132,8 @@ struct Scene::Impl {
   /// converting float to double. Every shape first; then the moving meshes' vertices in one
   /// parallel loop in the scene's arena, in tasks of about kPositionsGrain vertices (a long
   /// mesh in several, small meshes together): each piece is copied, then checked where it lies
-  /// in cache. Throws naming the first fault (the number of arrays, a mesh's vertex count or
+  /// in cache; the positions given for a static mesh are compared with its own in the same
+  /// loop. Throws naming the first fault (the number of arrays, a mesh's vertex count or
   /// columns, a static mesh moved, then the first mesh with a coordinate that is not finite);
   /// `dst` is then the scene's scratch, rewritten in full by the next step, and nothing else
   /// has changed. With `same_as`: returns whether every copied position is bit for bit the one
@@ -154,20 +156,13 @@ struct Scene::Impl {
     for (std::size_t m = 0; m < views.size(); ++m) {
       const PositionsView& v = views[m];
       const std::size_t nv = meshes[m].num_vertices();
-      if (topo->mesh_options(m).is_static) {  // no positions, or its own, unchanged
-        if (v.rows() == 0) continue;
-        validate_positions(v, nv, what(m));
-        for (std::size_t i = 0; i < v.rows(); ++i)
-          if (v.point(i) != meshes[m].vertices.point(i))
-            throw Error(what(m) + ": the mesh is static, but vertex " + std::to_string(i) +
-                        " differs from its initial position (give an empty PositionsView, or the same positions)");
-        continue;
-      }
+      const bool compare = topo->mesh_options(m).is_static;  // no positions, or its own, unchanged
+      if (compare && v.rows() == 0) continue;
       if (v.cols() != 3 || v.rows() != nv || (nv > 0 && v.data() == nullptr))
         validate_positions_shape(v, nv, what(m));  // throws, naming the fault
       for (std::size_t b = 0; b < nv;) {
         const std::size_t e = std::min(nv, b + (kPositionsGrain - in_task));
-        pieces.push_back({static_cast<std::uint32_t>(m), b, e});
+        pieces.push_back({static_cast<std::uint32_t>(m), b, e, compare});
         in_task += e - b;
         b = e;
         if (in_task == kPositionsGrain) {
@@ -180,8 +175,24 @@ struct Scene::Impl {
     if (pieces.empty()) return same_as != nullptr;
     std::atomic<bool> same{same_as != nullptr};
     std::atomic<std::uint32_t> first_bad{std::numeric_limits<std::uint32_t>::max()};  // mesh
+    // a static mesh moved: its first vertex that differs (mesh in the high half)
+    std::atomic<std::uint64_t> first_moved{std::numeric_limits<std::uint64_t>::max()};
+    auto lower = [](auto& atom, auto value) {
+      auto was = atom.load(std::memory_order_relaxed);
+      while (value < was && !atom.compare_exchange_weak(was, value, std::memory_order_relaxed)) {
+      }
+    };
     auto piece = [&](const InputPiece& p) {
       const PositionsView& v = views[p.mesh];
+      if (p.compare) {
+        const Positions& own = meshes[p.mesh].vertices;
+        for (std::size_t i = p.b; i < p.e; ++i)
+          if (v.point(i) != own.point(i)) {
+            lower(first_moved, std::uint64_t(p.mesh) << 32 | i);
+            return;
+          }
+        return;
+      }
       double* out = dst.data() + 3 * topo->vertex_offset(p.mesh);
       if (v.is_dense_double()) {
         std::memcpy(out + 3 * p.b, static_cast<const double*>(v.data()) + 3 * p.b, 3 * (p.e - p.b) * sizeof(double));
@@ -190,11 +201,7 @@ struct Scene::Impl {
           for (int k = 0; k < 3; ++k) out[3 * i + k] = v(i, k);
       }
       // a float converts to an infinite double only when it is infinite itself
-      if (!all_finite(out + 3 * p.b, 3 * (p.e - p.b))) {
-        std::uint32_t was = first_bad.load(std::memory_order_relaxed);
-        while (p.mesh < was && !first_bad.compare_exchange_weak(was, p.mesh, std::memory_order_relaxed)) {
-        }
-      }
+      if (!all_finite(out + 3 * p.b, 3 * (p.e - p.b))) lower(first_bad, p.mesh);
       const double* ref = same_as ? same_as->data() + 3 * topo->vertex_offset(p.mesh) : nullptr;
       if (ref && same.load(std::memory_order_relaxed) &&
           std::memcmp(out + 3 * p.b, ref + 3 * p.b, 3 * (p.e - p.b) * sizeof(double)) != 0)
@@ -211,6 +218,13 @@ struct Scene::Impl {
           tbb::simple_partitioner());
       if (ws) *ws += clock.work_span(clock.seconds());
     });
+    if (const std::uint64_t moved = first_moved.load(std::memory_order_relaxed);
+        moved != std::numeric_limits<std::uint64_t>::max()) {
+      const auto m = static_cast<std::size_t>(moved >> 32);
+      validate_positions(views[m], meshes[m].num_vertices(), what(m));  // a coordinate that is not finite, named
+      throw Error(what(m) + ": the mesh is static, but vertex " + std::to_string(moved & 0xffffffffu) +
+                  " differs from its initial position (give an empty PositionsView, or the same positions)");
+    }
     const std::uint32_t bad = first_bad.load(std::memory_order_relaxed);
     if (bad != std::numeric_limits<std::uint32_t>::max())
       validate_positions(views[bad], meshes[bad].num_vertices(), what(bad));  // throws, naming the first fault

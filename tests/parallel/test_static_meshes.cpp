@@ -2,6 +2,8 @@
 // flags, less what the flags exclude; no update or refit for what never moves; misuse refused.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <mccd/parallel/scene.h>
 #include <mccd/geometry/error.h>
 
@@ -75,6 +77,42 @@ TEST(StaticMeshes, GivenUnchangedPositionsAcceptedChangedRefused) {
     ADD_FAILURE() << "a scene with 1 mesh option for 2 meshes was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("1 mesh options for 2 meshes"), std::string::npos) << e.what();
+  }
+}
+
+TEST(StaticMeshes, ALargeStaticMeshIsComparedInPiecesAndItsFirstChangeNamed) {
+  // The positions given for a static mesh of several thousand vertices are compared in the
+  // parallel pieces of the input: the first vertex that differs is named wherever the pieces
+  // run, a coordinate that is not finite is named as such, and a refused call changes nothing.
+  const AnimatedScene cloth = make_folding_cloth(12, 4);
+  const TriMesh ball = make_sphere_mesh(48, 96, 0.3, Vec3(0.0, 0.0, -2.0));
+  ASSERT_GT(ball.num_vertices(), 3000u);
+  SceneOptions o;
+  o.meshes = {MeshOptions{}, MeshOptions{.is_static = true}};
+  Scene sc({cloth.meshes[0], ball}, o), fresh({cloth.meshes[0], ball}, o);
+  auto message = [&](const Positions& given) {
+    try {
+      sc.advance(std::vector<PositionsView>{cloth.frames[1][0], given});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  Positions moved = ball.vertices;
+  moved(ball.num_vertices() - 1, 0) += 1e-12;
+  moved(2100, 1) -= 1e-12;
+  moved(3000, 2) += 1.0;
+  EXPECT_NE(message(moved).find("the mesh is static, but vertex 2100 differs"), std::string::npos) << message(moved);
+  moved(1, 1) = std::nan("");
+  const std::string nan = message(moved);
+  EXPECT_NE(nan.find("mesh 1 (" + ball.name + ")"), std::string::npos) << nan;
+  EXPECT_EQ(nan.find("vertex 2100 differs"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("finite"), std::string::npos) << nan;
+  // nothing changed: the next steps are a fresh scene's, given the ball's own positions or none
+  for (std::size_t f = 1; f < cloth.frames.size(); ++f) {
+    const StepResult a = sc.advance(std::vector<PositionsView>{cloth.frames[f][0], ball.vertices});
+    const StepResult b = fresh.advance(std::vector<PositionsView>{cloth.frames[f][0], PositionsView()});
+    ASSERT_EQ(a.contacts, b.contacts) << "step " << f;
   }
 }
 
