@@ -404,6 +404,15 @@ struct VOps {
     };
     transpose(lo, l);
     transpose(hi, h);
+    if (m == 8 && stored == 0xFFu) {  // every lane (most groups): stores without a branch
+      for (unsigned i = 0; i < 4; ++i) {
+        _mm_store_ps(out + 72 * i, _mm256_castps256_ps128(l[i]));
+        _mm_store_ps(out + 72 * i + 4, _mm256_castps256_ps128(h[i]));
+        _mm_store_ps(out + 72 * (i + 4), _mm256_extractf128_ps(l[i], 1));
+        _mm_store_ps(out + 72 * (i + 4) + 4, _mm256_extractf128_ps(h[i], 1));
+      }
+      return;
+    }
     for (unsigned i = 0; i < m; ++i) {
       if (!(stored >> i & 1u)) continue;
       _mm_store_ps(out + 72 * i, i < 4 ? _mm256_castps256_ps128(l[i]) : _mm256_extractf128_ps(l[i - 4], 1));

@@ -32,7 +32,13 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
     f = V::fmin(f, big);
     return V::fsub(f, V::fadd(V::fmul(V::fandnot(sign, f), ulp), tiny));
   };
-  auto up = [&](typename V::F f) { return V::fxor(down(V::fxor(f, sign)), sign); };
+  // down's operations on -f, negated (rounding to nearest is symmetric): the same bits
+  // without the two sign flips
+  const typename V::F low = V::fset(-std::numeric_limits<float>::max());
+  auto up = [&](typename V::F f) {
+    f = V::fmax(f, low);
+    return V::fadd(f, V::fadd(V::fmul(V::fandnot(sign, f), ulp), tiny));
+  };
   alignas(32) std::int32_t lower[9][W], upper[9][W];
   for (std::size_t g = 0; g < n; g += W) {
     const unsigned m = n - g >= W ? W : static_cast<unsigned>(n - g);

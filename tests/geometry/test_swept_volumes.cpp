@@ -246,7 +246,8 @@ TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
   // The update's vertex volumes in vector lanes (LaneKernels::vertex_quarters, where a level has
   // them) equal the scalar code's bit for bit: over a permuted layout, a range that neither
   // starts nor ends on a register or a 64-slot group, kept slots (whole registers too) left as
-  // they were, and coordinates from 0 and denormals to beyond float range.
+  // they were, or none kept (whole registers written at once), and coordinates from 0 and
+  // denormals to beyond float range.
   const std::size_t n = 203;
   const MeshTopology topo(n, {});
   std::mt19937 rng(17);
@@ -274,14 +275,17 @@ TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
     SimdLevel level = lane_kernels().level;
     ~KeepLevel() { select_simd_level(level); }
   } restore;
-  auto run = [&](SimdLevel level, double distance) {
+  auto run = [&](SimdLevel level, double distance, bool keep_some) {
     select_simd_level(level);
     SweptVolumes<Kdop18> s;
     s.resize(topo, layout);
     s.update_vertex_slots(x0.data(), y1.data(), 0.0, 0, n);  // what kept slots keep
     std::vector<int> seen(n, 0);
     s.update_vertex_slots_keeping(
-        x0.data(), x1.data(), distance, 5, n - 3, [](std::uint32_t v, std::size_t slot) { return (v + slot) % 5 == 1 || (slot >= 40 && slot < 56); },
+        x0.data(), x1.data(), distance, 5, n - 3,
+        [keep_some](std::uint32_t v, std::size_t slot) {
+          return keep_some && ((v + slot) % 5 == 1 || (slot >= 40 && slot < 56));
+        },
         [&](std::size_t slot, const auto& q) {
           ++seen[slot];
           EXPECT_EQ(&q, &s.vertex_quarters_at(static_cast<std::uint32_t>(slot)));
@@ -291,16 +295,17 @@ TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
     for (std::uint32_t slot = 0; slot < n; ++slot) out[slot] = s.vertex_quarters_at(slot);
     return out;
   };
-  for (double distance : {0.0, 1e-3}) {
-    const std::vector<QuarterDop<9>> scalar = run(SimdLevel::Scalar, distance);
-    for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
-      if (!lane_kernels_for(level)) continue;
-      const std::vector<QuarterDop<9>> got = run(level, distance);
-      for (std::size_t slot = 0; slot < n; ++slot)
-        EXPECT_EQ(std::memcmp(&got[slot], &scalar[slot], sizeof(QuarterDop<9>)), 0)
-            << to_string(level) << ", slot " << slot << ", distance " << distance;
+  for (bool keep_some : {true, false})
+    for (double distance : {0.0, 1e-3}) {
+      const std::vector<QuarterDop<9>> scalar = run(SimdLevel::Scalar, distance, keep_some);
+      for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
+        if (!lane_kernels_for(level)) continue;
+        const std::vector<QuarterDop<9>> got = run(level, distance, keep_some);
+        for (std::size_t slot = 0; slot < n; ++slot)
+          EXPECT_EQ(std::memcmp(&got[slot], &scalar[slot], sizeof(QuarterDop<9>)), 0)
+              << to_string(level) << ", slot " << slot << ", distance " << distance << ", some kept " << keep_some;
+      }
     }
-  }
 }
 
 TEST(SweptVolumes, VertexCoarseVolumesBitForBitWithTheirQuarters) {
