@@ -47,6 +47,8 @@ class LeafOwnership {
   /// leaf's own vertices, every corner of the leaf exactly once (what its refit merges).
   std::uint32_t foreign_begin(std::uint32_t node) const { return foreign_begin_[node]; }
   std::uint32_t foreign_corner(std::uint32_t i) const { return foreign_[i]; }
+  /// foreign_corner(i), foreign_corner(i + 1), ... in a row.
+  const std::uint32_t* foreign_corners_from(std::uint32_t i) const { return foreign_.data() + i; }
   /// The vertex ids of the edge in `slot`.
   const Edge& edge_ends(std::uint32_t slot) const { return edge_ends_[slot]; }
   /// edge(), edge_ends() and face_corners() from `slot` on, as arrays (a leaf's, read in a loop

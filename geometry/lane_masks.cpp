@@ -112,6 +112,7 @@ struct DOps {
   static V gather(const double* base, const std::int64_t* at) { return base[at[0]]; }
 };
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
+constexpr decltype(LaneKernels::merge_quarters) kMergeQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_scalar
 
@@ -177,6 +178,7 @@ struct DOps {
   static V gather(const double* base, const std::int64_t* at) { return _mm_set_pd(base[at[1]], base[at[0]]); }
 };
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = nullptr;
+constexpr decltype(LaneKernels::merge_quarters) kMergeQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_sse2
 
@@ -278,6 +280,7 @@ struct VOps {
 };
 #include "vertex_quarters_kernel.inl"
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
+constexpr decltype(LaneKernels::merge_quarters) kMergeQuarters = nullptr;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx2
 #if defined(__clang__)
@@ -422,6 +425,29 @@ struct VOps {
 };
 #include "vertex_quarters_kernel.inl"
 constexpr decltype(LaneKernels::vertex_quarters) kVertexQuarters = &vertex_quarters;
+/// LaneKernels::merge_quarters: a volume as four registers of two slabs (lower bounds, then
+/// upper ones, of each) and one of the ninth, the lower lanes taking the minimum and the upper
+/// ones the maximum, each with merge_each's operand order.
+void merge_quarters(const float* base, const std::uint32_t* slots, std::size_t n, float* acc) {
+  constexpr __mmask16 kLo = 0x0F0F, kHi = 0xF0F0, kLast = 0x00FF;
+  __m512 a[5];
+  for (int r = 0; r < 4; ++r) a[r] = _mm512_loadu_ps(acc + 16 * r);
+  a[4] = _mm512_maskz_loadu_ps(kLast, acc + 64);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* q = base + 72 * std::size_t(slots ? slots[i] : i);
+    for (int r = 0; r < 4; ++r) {
+      const __m512 x = _mm512_loadu_ps(q + 16 * r);
+      a[r] = _mm512_mask_min_ps(a[r], kLo, x, a[r]);
+      a[r] = _mm512_mask_max_ps(a[r], kHi, x, a[r]);
+    }
+    const __m512 x = _mm512_maskz_loadu_ps(kLast, q + 64);
+    a[4] = _mm512_mask_min_ps(a[4], kLo & kLast, x, a[4]);
+    a[4] = _mm512_mask_max_ps(a[4], kHi & kLast, x, a[4]);
+  }
+  for (int r = 0; r < 4; ++r) _mm512_storeu_ps(acc + 16 * r, a[r]);
+  _mm512_mask_storeu_ps(acc + 64, kLast, a[4]);
+}
+constexpr decltype(LaneKernels::merge_quarters) kMergeQuarters = &merge_quarters;
 #include "lane_masks_kernels.inl"
 }  // namespace lanes_avx512
 #if defined(__clang__)

@@ -132,6 +132,12 @@ struct LaneKernels {
   /// kernel (the caller computes them itself).
   void (*vertex_quarters)(const double* x0, const double* x1, const std::uint32_t* vertex_of_slot, std::size_t n,
                           double min_distance, std::uint64_t skip, float* out, const CoarseOut* coarse);
+  /// geometry/quarter_volumes.h's QuarterDop<9>::merge_each for the n volumes (72 floats each)
+  /// at base + 72 slots[i] (slots nullptr: base + 72 i), merged into `acc` (72 floats): each
+  /// lower bound the minimum and each upper bound the maximum, in its order and with its
+  /// operands' order (bit for bit its values, NaN included). nullptr where this level has no
+  /// such kernel (the caller merges them itself).
+  void (*merge_quarters)(const float* base, const std::uint32_t* slots, std::size_t n, float* acc);
   SimdLevel level;
 };
 

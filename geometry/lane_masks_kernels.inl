@@ -733,4 +733,5 @@ unsigned normal_signs(const double* x0, const double* x1, const std::uint32_t (*
 }
 
 const LaneKernels kernels{&dops,       &pair_masks, &self_masks,   &merge_lanes,     &coplanar_quarters,
-                          &fast_tests, &star_signs, &normal_signs, kVertexQuarters, Ops::kLevel};
+                          &fast_tests, &star_signs, &normal_signs, kVertexQuarters, kMergeQuarters,
+                          Ops::kLevel};

@@ -20,6 +20,7 @@
 #include <mccd/core/stats.h>
 #include <mccd/core/unchanged_leaves.h>
 #include <mccd/geometry/assert.h>
+#include <mccd/geometry/lane_masks.h>
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/swept_volumes.h>
 #include <mccd/parallel/tbb_executor.h>
@@ -104,6 +105,16 @@ QuarterVolume<BV> leaf_volume(const LeafOwnership& owners, const SweptVolumes<BV
   }
   QuarterVolume<BV> v = QuarterVolume<BV>::empty();
   const std::uint32_t vb = owners.vertex_begin(node), fb = owners.foreign_begin(node);
+  if constexpr (BV::kSlabs == 9) {
+    // in vector lanes where the processor has them (LaneKernels::merge_quarters: the same bits)
+    if (const auto merge = lane_kernels().merge_quarters) {
+      const auto* base = reinterpret_cast<const float*>(&swept.vertex_quarters_at(0));
+      float* acc = v.bounds[0][0];
+      merge(base + 72 * std::size_t(vb), nullptr, owners.vertex_begin(node + 1) - vb, acc);
+      merge(base, owners.foreign_corners_from(fb), owners.foreign_begin(node + 1) - fb, acc);
+      return v;
+    }
+  }
   v.merge_each(owners.vertex_begin(node + 1) - vb, [&](std::uint32_t i) -> const QuarterVolume<BV>& {
     return swept.vertex_quarters_at(vb + i);
   });

@@ -105,6 +105,39 @@ TEST(QuarterVolumes, MergeEachIsOneMergeAfterAnother) {
   }
 }
 
+TEST(QuarterVolumes, MergeQuartersInLanesIsMergeEachAtEveryLevel) {
+  // LaneKernels::merge_quarters (where a level has it) against merge_each, bit for bit: from a
+  // run of volumes and through a list of slots, NaN and infinite bounds included, empty lists.
+  std::mt19937 rng(9);
+  std::vector<QuarterDop<9>> items(64);
+  for (auto& q : items) {
+    q = random_quarters<9>(rng);
+    if (rng() % 8 == 0) q.lo(static_cast<int>(rng() % 9))[rng() % 4] = std::nanf("");
+    if (rng() % 8 == 0) q.hi(static_cast<int>(rng() % 9))[rng() % 4] = std::nanf("");
+    if (rng() % 8 == 0) q.hi(8)[rng() % 4] = std::numeric_limits<float>::infinity();
+  }
+  const auto* base = reinterpret_cast<const float*>(items.data());
+  bool any = false;
+  for (SimdLevel level : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
+    const LaneKernels* k = lane_kernels_for(level);
+    if (!k || !k->merge_quarters) continue;
+    any = true;
+    for (int i = 0; i < 300; ++i) {
+      const std::size_t first = rng() % 40, n = rng() % 24;
+      std::vector<std::uint32_t> slots(rng() % 24);
+      for (auto& s : slots) s = static_cast<std::uint32_t>(rng() % items.size());
+      QuarterDop<9> each = i % 3 ? random_quarters<9>(rng) : QuarterDop<9>::empty(), lanes = each;
+      each.merge_each(static_cast<std::uint32_t>(n), [&](std::uint32_t j) -> const QuarterDop<9>& { return items[first + j]; });
+      each.merge_each(static_cast<std::uint32_t>(slots.size()),
+                      [&](std::uint32_t j) -> const QuarterDop<9>& { return items[slots[j]]; });
+      k->merge_quarters(base + 72 * first, nullptr, n, lanes.bounds[0][0]);
+      k->merge_quarters(base, slots.data(), slots.size(), lanes.bounds[0][0]);
+      ASSERT_EQ(std::memcmp(&each, &lanes, sizeof each), 0) << to_string(level) << " " << i;
+    }
+  }
+  if (!any) GTEST_SKIP() << "no SIMD level of this processor has merge_quarters (AVX-512 only)";
+}
+
 template <class BV>
 void check_paths_are_contained(double scale, double min_distance) {
   // Two triangles sharing an edge, moving on random segments; every vertex's exact position at
