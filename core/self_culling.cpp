@@ -402,15 +402,15 @@ void SelfCulling::certify(const BvhTopology& bvh, const MeshTopology& topo, cons
   auto certify_closed_all = [&] {
     ex.dynamic_for(closed_.size(), 1, [&](std::size_t b, std::size_t e) {
       for (std::size_t k = b; k != e; ++k) {
-        // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
-        // surface that is not star-shaped from its mean costs a pass over its triangles for
-        // nothing. A success starts over.
         // A surface whose step repeats the last call's keeps that call's outcome (the
         // certificate is a function of its corners' positions and its nodes' volumes).
         if (closed_last_[k] != kUnknown && repeats && repeats(closed_[k])) {
           closed_ok_[k] = closed_last_[k];
           continue;
         }
+        // After f failures in a row the next 2^f - 1 steps (at most 63) are not tried: a closed
+        // surface that is not star-shaped from its mean costs a pass over its triangles for
+        // nothing. A success starts over.
         Backoff& o = closed_backoff_[k];
         closed_ok_[k] = 0;
         closed_last_[k] = kUnknown;

@@ -164,13 +164,13 @@ void refit_stage(const RefitPlan& plan, const BvhTopology& bvh, const LeafOwners
     plan.run(bvh, nodes, [&](std::uint32_t n) { return leaf_volume(owners, swept, n); });
   stats.refit_nodes = plan.nodes_refitted(bvh);
   if (cull && culling.possible()) {
-    // A node's first-quarter box holds its triangles at the start of the step; the ray test
-    // grows it by far more than the rounding of its double arithmetic before it rules a node
-    // out.
     // A closed surface whose leaves all repeat the previous full step keeps its certificate
     // from then (the previous full step certified too: it was not brute force).
     SelfCulling::Repeats repeats;
     if (unchanged.active()) repeats = [&](std::uint32_t n) { return unchanged.subtree_repeats(n, bvh); };
+    // A node's first-quarter box holds its triangles at the start of the step; the ray test
+    // grows it by far more than the rounding of its double arithmetic before it rules a node
+    // out.
     culling.certify(
         bvh, topo, x0, x1, tbb_executor(),
         [&](std::uint32_t n, const Vec3& o, const Vec3& d) { return ray_meets_box(nodes[n], o, d); },

@@ -127,7 +127,8 @@ TEST(QuarterVolumes, MergeQuartersInLanesIsMergeEachAtEveryLevel) {
       std::vector<std::uint32_t> slots(rng() % 24);
       for (auto& s : slots) s = static_cast<std::uint32_t>(rng() % items.size());
       QuarterDop<9> each = i % 3 ? random_quarters<9>(rng) : QuarterDop<9>::empty(), lanes = each;
-      each.merge_each(static_cast<std::uint32_t>(n), [&](std::uint32_t j) -> const QuarterDop<9>& { return items[first + j]; });
+      each.merge_each(static_cast<std::uint32_t>(n),
+                      [&](std::uint32_t j) -> const QuarterDop<9>& { return items[first + j]; });
       each.merge_each(static_cast<std::uint32_t>(slots.size()),
                       [&](std::uint32_t j) -> const QuarterDop<9>& { return items[slots[j]]; });
       k->merge_quarters(base + 72 * first, nullptr, n, lanes.bounds[0][0]);
