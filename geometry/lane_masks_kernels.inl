@@ -60,22 +60,31 @@ void dops(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs,
 
 /// Block `rows` (runtime stride, n lanes) against the columns j of `chosen` of another block
 /// (value r of column j at cols[r * OS + j]): out[j] bit i set when lane i overlaps column j.
-/// The block's rows of a register's lanes are loaded once for every column.
+/// The block's rows of a register's lanes are loaded once for every column (into registers:
+/// the loop is unrolled), and a block of one register's lanes writes each mask once. Inlined
+/// into the kernels that call it: most calls test a few columns.
 template <unsigned Slabs, unsigned OS>
-void block_vs_columns(const std::int16_t* rows, unsigned stride, unsigned n, const std::int16_t* cols,
-                      std::uint64_t chosen, std::uint64_t* out) {
+[[gnu::always_inline]] inline void block_vs_columns(const std::int16_t* rows, unsigned stride, unsigned n,
+                                                    const std::int16_t* cols, std::uint64_t chosen, std::uint64_t* out) {
   const std::uint64_t valid = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
-  for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] = 0;
-  for (unsigned c = 0; c < n; c += Ops::kLanes) {
+  auto columns = [&](unsigned c, auto&& write) {  // every column against lanes [c, c + kLanes)
     typename Ops::Row reg[2 * Slabs];
+#pragma GCC unroll 18
     for (unsigned r = 0; r < 2 * Slabs; ++r) reg[r] = Ops::row(rows + r * stride + c);
     for (std::uint64_t left = chosen; left; left &= left - 1) {
       const unsigned j = static_cast<unsigned>(std::countr_zero(left));
       const std::int16_t* o = cols + j;
       auto slab = [&](unsigned s) { return Ops::slab_row(reg[s], reg[Slabs + s], o[s * OS], o[(Slabs + s) * OS]); };
-      out[j] |= std::uint64_t(Ops::bits(apart_along_slabs<Slabs>(slab))) << c;
+      write(j, std::uint64_t(Ops::bits(apart_along_slabs<Slabs>(slab))));
     }
+  };
+  if (n <= Ops::kLanes) {
+    columns(0, [&](unsigned j, std::uint64_t bits) { out[j] = bits & valid; });
+    return;
   }
+  for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] = 0;
+  for (unsigned c = 0; c < n; c += Ops::kLanes)
+    columns(c, [&](unsigned j, std::uint64_t bits) { out[j] |= bits << c; });
   for (std::uint64_t c = chosen; c; c &= c - 1) out[std::countr_zero(c)] &= valid;
 }
 

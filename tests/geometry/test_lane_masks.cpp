@@ -12,12 +12,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "support/simd_levels.h"
@@ -422,6 +424,108 @@ TEST(LaneMasks, MergesOfLanesMatchThePlainMerge) {
       std::vector<std::int16_t> got(2 * slabs * out_stride, 7);  // lanes past n left as they are
       kern->merge_lanes(rows.data(), stride, slabs, sources, k, n, got.data(), out_stride);
       ASSERT_EQ(got, want) << to_string(kern->level) << " trial " << trial;
+    }
+  }
+}
+
+namespace {
+
+/// A lane block of random coarse volumes for the pair and self kernels: n lanes of a
+/// random stride that holds them, garbage in the other lanes and in the slack.
+struct RandomBlock {
+  std::vector<CoarseDop> lanes;
+  std::vector<std::int16_t> rows;
+  unsigned stride = 8;
+
+  RandomBlock(std::mt19937_64& rng, unsigned slabs, unsigned n) : lanes(n) {
+    while (stride < n || (stride < 64 && rng() % 4 == 0)) stride *= 2;
+    rows.resize(2 * slabs * stride + kLaneSlack);
+    for (auto& v : rows) v = random_bound(rng);
+    for (unsigned j = 0; j < n; ++j) {
+      lanes[j] = random_dop(rng, slabs);
+      for (unsigned s = 0; s < slabs; ++s) {
+        rows[s * stride + j] = lanes[j].lo[s];
+        rows[(slabs + s) * stride + j] = lanes[j].hi[s];
+      }
+    }
+  }
+  unsigned n() const { return static_cast<unsigned>(lanes.size()); }
+};
+
+bool dops_meet(const CoarseDop& a, const CoarseDop& b, unsigned slabs) {
+  for (unsigned s = 0; s < slabs; ++s)
+    if (a.lo[s] > b.hi[s] || b.lo[s] > a.hi[s]) return false;
+  return true;
+}
+
+/// Bit j set when lane j of `block` meets `d`.
+std::uint64_t meeting(const RandomBlock& block, const CoarseDop& d, unsigned slabs) {
+  std::uint64_t m = 0;
+  for (unsigned j = 0; j < block.n(); ++j) m |= std::uint64_t(dops_meet(block.lanes[j], d, slabs)) << j;
+  return m;
+}
+
+/// A leaf's three blocks (vertex, edge and face lanes of random sizes up to the kernels' limits)
+/// and its own coarse volume.
+struct RandomLeaf {
+  RandomBlock vertices, edges, faces;
+  CoarseDop leaf;
+  RandomLeaf(std::mt19937_64& rng, unsigned slabs)
+      : vertices(rng, slabs, static_cast<unsigned>(rng() % 33)),
+        edges(rng, slabs, static_cast<unsigned>(rng() % 65)),
+        faces(rng, slabs, static_cast<unsigned>(rng() % 33)),
+        leaf(random_dop(rng, slabs)) {}
+  LeafBlocks blocks() const {
+    return {vertices.rows.data(), vertices.stride, vertices.n(), edges.rows.data(), edges.stride, edges.n(),
+            faces.rows.data(),    faces.stride,    faces.n(),    &leaf};
+  }
+};
+
+}  // namespace
+
+// Every level's coarse tests of two leaves and of one leaf against the plain test of each pair
+// of lanes: the single-register blocks and those of two registers, each side choosing the
+// columns or the lanes.
+TEST(LaneMasks, PairAndSelfMasksMatchThePlainTestAtEveryLevel) {
+  const auto levels = test::available_levels();
+  std::mt19937_64 rng(23);
+  for (int trial = 0; trial < 1500; ++trial) {
+    const unsigned slabs = trial % 2 ? 9 : 3;
+    const RandomLeaf a(rng, slabs), b(rng, slabs);
+    const std::uint64_t va = meeting(a.vertices, b.leaf, slabs), vb = meeting(b.vertices, a.leaf, slabs);
+    const std::uint64_t ea = meeting(a.edges, b.leaf, slabs), eb = meeting(b.edges, a.leaf, slabs);
+    std::uint64_t chosen = 0;
+    for (unsigned i = 0; i < a.edges.n(); ++i) chosen |= std::uint64_t(rng() % 2) << i;
+    for (const LaneKernels* k : levels) {
+      const std::string where = std::string(to_string(k->level)) + " trial " + std::to_string(trial);
+      PairMasks m;
+      k->pair_masks(slabs, a.blocks(), b.blocks(), m);
+      ASSERT_EQ(m.alive_va, va) << where;
+      ASSERT_EQ(m.alive_vb, vb) << where;
+      ASSERT_EQ(m.alive_ea, ea) << where;
+      for (std::uint64_t left = va; left; left &= left - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(left));
+        ASSERT_EQ(m.vertex_faces_ab[j], meeting(b.faces, a.vertices.lanes[j], slabs)) << where << " vertex " << j;
+      }
+      for (std::uint64_t left = vb; left; left &= left - 1) {
+        const unsigned j = static_cast<unsigned>(std::countr_zero(left));
+        ASSERT_EQ(m.vertex_faces_ba[j], meeting(a.faces, b.vertices.lanes[j], slabs)) << where << " vertex " << j;
+      }
+      if (ea && eb) {  // the edges' pairs only where both sides have edges alive
+        ASSERT_EQ(m.alive_eb, eb) << where;
+        for (std::uint64_t left = ea; left; left &= left - 1) {
+          const unsigned i = static_cast<unsigned>(std::countr_zero(left));
+          ASSERT_EQ(m.edges[i], meeting(b.edges, a.edges.lanes[i], slabs) & eb) << where << " edge " << i;
+        }
+      }
+      SelfMasks s;
+      k->self_masks(slabs, a.blocks(), chosen, s);
+      for (unsigned j = 0; j < a.vertices.n(); ++j)
+        ASSERT_EQ(s.vertex_faces[j], meeting(a.faces, a.vertices.lanes[j], slabs)) << where << " vertex " << j;
+      for (std::uint64_t left = chosen; left; left &= left - 1) {
+        const unsigned i = static_cast<unsigned>(std::countr_zero(left));
+        ASSERT_EQ(s.edges[i], meeting(a.edges, a.edges.lanes[i], slabs)) << where << " edge " << i;
+      }
     }
   }
 }
