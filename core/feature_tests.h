@@ -143,17 +143,26 @@ class FeatureTests {
                              std::uint32_t leaf_a, std::uint32_t leaf_b) {
     return {{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)};
   }
-  /// The lower edge id first.
+  /// The lower edge id first (a != b). Without a branch: which edge comes first is as good as
+  /// random in a leaf pair's loops, and a branch on it was mispredicted half the time.
   static QueuedPair ee_entry(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
                              std::uint32_t leaf_a, std::uint32_t leaf_b) {
-    const bool swap = b < a;
+    std::uint64_t xa, xb;  // each edge's two ends as one word
+    std::memcpy(&xa, ea.data(), sizeof xa);
+    std::memcpy(&xb, eb.data(), sizeof xb);
+    std::uint64_t swap = std::uint64_t(0) - std::uint64_t(b < a);
+#if defined(__GNUC__)
+    asm("" : "+r"(swap));  // opaque: the compiler would turn the selection back into a branch
+#endif
+    const std::uint64_t first = xa ^ ((xa ^ xb) & swap);
+    const std::uint64_t second = xa ^ xb ^ first;
     QueuedPair p;
-    p.ids[0] = swap ? eb[0] : ea[0];
-    p.ids[1] = swap ? eb[1] : ea[1];
-    p.ids[2] = swap ? ea[0] : eb[0];
-    p.ids[3] = swap ? ea[1] : eb[1];
-    p.a = swap ? b : a;
-    p.b = swap ? a : b;
+    std::memcpy(p.ids, &first, sizeof first);
+    std::memcpy(p.ids + 2, &second, sizeof second);
+    const std::uint64_t ab = a | std::uint64_t(b) << 32, ba = b | std::uint64_t(a) << 32;
+    const std::uint64_t ids = ab ^ ((ab ^ ba) & swap);  // (a, b) in that order, or swapped
+    p.a = static_cast<std::uint32_t>(ids);
+    p.b = static_cast<std::uint32_t>(ids >> 32);
     p.leaf_a = leaf_a;
     p.leaf_b = leaf_b;
     p.kind = 1;
