@@ -144,7 +144,7 @@ class FeatureTests {
     return {{v, t[0], t[1], t[2]}, v, f, leaf_a, leaf_b, 0, static_cast<std::uint8_t>(quarters)};
   }
   /// The lower edge id first (a != b). Without a branch: which edge comes first is as good as
-  /// random in a leaf pair's loops, and a branch on it was mispredicted half the time.
+  /// random in a leaf pair's loops, where a branch on it is mispredicted often.
   static QueuedPair ee_entry(std::uint32_t a, const Edge& ea, std::uint32_t b, const Edge& eb, unsigned quarters,
                              std::uint32_t leaf_a, std::uint32_t leaf_b) {
     std::uint64_t xa, xb;  // each edge's two ends as one word

@@ -65,7 +65,8 @@ void dops(const std::int16_t* rows, unsigned stride, unsigned n, unsigned slabs,
 /// into the kernels that call it: most calls test a few columns.
 template <unsigned Slabs, unsigned OS>
 [[gnu::always_inline]] inline void block_vs_columns(const std::int16_t* rows, unsigned stride, unsigned n,
-                                                    const std::int16_t* cols, std::uint64_t chosen, std::uint64_t* out) {
+                                                    const std::int16_t* cols, std::uint64_t chosen,
+                                                    std::uint64_t* out) {
   const std::uint64_t valid = n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1;
   auto columns = [&](unsigned c, auto&& write) {  // every column against lanes [c, c + kLanes)
     typename Ops::Row reg[2 * Slabs];

@@ -484,8 +484,8 @@ struct RandomLeaf {
 }  // namespace
 
 // Every level's coarse tests of two leaves and of one leaf against the plain test of each pair
-// of lanes: the single-register blocks and those of two registers, each side choosing the
-// columns or the lanes.
+// of lanes: blocks of one register's lanes and of more (up to 64 edges), strides to 64, and
+// garbage in the lanes past each block's end.
 TEST(LaneMasks, PairAndSelfMasksMatchThePlainTestAtEveryLevel) {
   const auto levels = test::available_levels();
   std::mt19937_64 rng(23);
