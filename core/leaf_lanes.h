@@ -103,13 +103,21 @@ class LeafLanes {
   CoarseOut coarse_out() { return {grid_.origin, grid_.scale, vertices_.data()}; }
 
   /// A new step on `grid`: every leaf's lanes are stale until filled again (ensure()).
-  void begin(const Grid& grid) {
+  /// Returns whether every vertex slot's coarse volume from the last update still holds: that
+  /// update completed (vertices_done()) and `grid` is its grid, bit for bit. The update then
+  /// need not quantize the slots whose quarter volumes it keeps (they are those of then).
+  bool begin(const Grid& grid) {
+    const bool hold = vertices_hold_ && std::memcmp(&grid, &grid_, sizeof(Grid)) == 0;
+    vertices_hold_ = false;  // until this step's update completes
     grid_ = grid;
     if (++epoch_ == 0x7fffffffu) {  // stamps would wrap: every leaf stale explicitly
       epoch_ = 1;
       for (std::size_t i = 0; i < leaf_.size(); ++i) stamp_[i].store(0, std::memory_order_relaxed);
     }
+    return hold;
   }
+  /// The update since begin() completed: every vertex slot's coarse volume is on the grid.
+  void vertices_done() { vertices_hold_ = true; }
 
   /// Leaf `node`'s lanes, filled for this step when they are not yet (its vertices' coarse
   /// volumes from quantize_vertices(), its own from `volume`, the step's quarter volume of the
@@ -228,6 +236,8 @@ class LeafLanes {
   }
   /// Vertex slot `slot`'s coarse volume (quantize_vertices()).
   const CoarseDop& vertex(std::uint32_t slot) const { return vertices_[slot]; }
+  /// The step's grid (begin()).
+  const Grid& grid() const { return grid_; }
 
  private:
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -265,6 +275,7 @@ class LeafLanes {
   LargeVector<Sources> sources_;  ///< uninitialised until each leaf's chunk writes its own
   LargeVector<std::int16_t> values_;
   Grid grid_{};
+  bool vertices_hold_ = false;  ///< vertices_done() since the last begin()
   std::uint32_t epoch_ = 0;  ///< steps begun: a leaf's lanes are this step's when its stamp is 2 epoch_
   std::unique_ptr<std::atomic<std::uint32_t>[]> stamp_;  ///< per node: 2 e filled at step e, 2 e + 1 filling
   LargeVector<CoarseDop> leaf_;      ///< per node: a leaf's own coarse volume

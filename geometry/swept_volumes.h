@@ -119,10 +119,12 @@ class SweptVolumes {
   /// coarse volumes of the slots it updates (LaneKernels::vertex_quarters, its `coarse`, at
   /// slot indices): `visit` is then called for the kept slots only. It must write the same
   /// there as `visit` would (the coarse volumes of those quarters on that grid).
+  /// `visit_kept` false: `visit` is not called for the kept slots (what it wrote for them
+  /// before still holds).
   template <class Keep, class Visit>
   void update_vertex_slots_keeping(const double* x0, const double* x1, double min_distance, std::size_t begin,
                                    std::size_t end, const Keep& keep, const Visit& visit,
-                                   const CoarseOut* coarse = nullptr) {
+                                   const CoarseOut* coarse = nullptr, bool visit_kept = true) {
     if constexpr (BV::kSlabs == 9) {
       // in vector lanes where the processor has them (LaneKernels::vertex_quarters: the same
       // values), 64 slots at a time: which to keep first, then the volumes, then the visits
@@ -136,7 +138,7 @@ class SweptVolumes {
           kernel(x0, x1, vertex_of_slot_.data() + g, ge - g, min_distance, kept, vertex_quarters_[g].bounds[0][0],
                  coarse ? &here : nullptr);
           for (std::size_t s = g; s != ge; ++s)
-            if (!coarse || (kept >> (s - g) & 1u)) visit(s, vertex_quarters_[s]);
+            if (!coarse || (visit_kept && (kept >> (s - g) & 1u))) visit(s, vertex_quarters_[s]);
         }
         return;
       }
@@ -149,8 +151,9 @@ class SweptVolumes {
         __builtin_prefetch(x1 + a);
       }
       const std::uint32_t v = vertex_of_slot_[s];
-      if (!keep(v, s)) vertex_volumes(x0, x1, min_distance, v, s);
-      visit(s, vertex_quarters_[s]);
+      const bool kept = keep(v, s);
+      if (!kept) vertex_volumes(x0, x1, min_distance, v, s);
+      if (!kept || visit_kept) visit(s, vertex_quarters_[s]);
     }
   }
   /// The same with `kept` (per vertex id; nullptr: none) as keep().

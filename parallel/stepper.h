@@ -49,6 +49,8 @@ class Stepper {
   /// Forgets the front (the next fbd step rebuilds it from the root).
   void invalidate_front() { search_.invalidate_front(); }
   const BvttFront& front() const { return search_.front(); }
+  /// The last update's volumes (for the tests).
+  const UpdateState<BV>& volumes() const { return volumes_; }
 
  private:
   using Tests = FeatureTests<BV>;

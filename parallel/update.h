@@ -37,11 +37,13 @@ inline std::size_t vertex_grain(std::size_t vertices) {
 /// kept. `track` (nullptr: none): every other vertex is noted there as it is read
 /// (UnchangedLeaves::note), and those that repeat the previous step keep their volumes.
 /// `lanes` (leaf rule; nullptr: none), begun on the step's grid: each slot's coarse volume
-/// from its quarters while they are in cache.
+/// from its quarters while they are in cache; with `quantize_kept` false only the slots whose
+/// volumes are computed (those of the kept ones still hold: LeafLanes::begin()).
 template <BoundingVolume BV>
 void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, const Positions& x0,
                           const Positions& x1, double min_distance, const std::uint8_t* fixed = nullptr,
-                          UnchangedLeaves* track = nullptr, LeafLanes<BV>* lanes = nullptr) {
+                          UnchangedLeaves* track = nullptr, LeafLanes<BV>* lanes = nullptr,
+                          bool quantize_kept = true) {
   const double* a = x0.data();
   const double* b = x1.data();
   auto keep = [fixed, track, a, b](std::uint32_t v, std::size_t slot) {
@@ -52,7 +54,7 @@ void update_swept_volumes(SweptVolumes<BV>& swept, const MeshTopology& topo, con
       const CoarseOut coarse = lanes->coarse_out();
       swept.update_vertex_slots_keeping(
           a, b, min_distance, begin, end, keep,
-          [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); }, &coarse);
+          [&](std::size_t s, const QuarterVolume<BV>& q) { lanes->quantize_vertex(s, q); }, &coarse, quantize_kept);
     } else {
       swept.update_vertex_slots_keeping(a, b, min_distance, begin, end, keep,
                                         [](std::size_t, const QuarterVolume<BV>&) {});
@@ -104,14 +106,17 @@ void update_stage(const SceneTopology& scene, const Positions& x0, const Positio
   // Leaf rule: every vertex's coarse volume on a grid that holds the step (the leaves' lanes
   // are filled from them when a leaf pair or the self stage first needs them). The grid is
   // fitted to the positions first, so the update's pass can quantize each volume it writes.
+  // Where the grid is the last step's, the kept volumes' coarse volumes from then still hold.
   LeafLanes<BV>* lanes = nullptr;
+  bool hold = false;
   if (!state.lanes.empty()) {
     const Bounds3 box = step_bounds(x0, x1, state.chunk_bounds);
-    if (box.min.x() <= box.max.x()) state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
+    if (box.min.x() <= box.max.x()) hold = state.lanes.begin(state.grid.fit(box.min.data(), box.max.data()));
     lanes = &state.lanes;
   }
   update_swept_volumes(state.swept, topo, x0, x1, min_distance, state.fixed.empty() ? nullptr : state.fixed.data(),
-                       track, lanes);
+                       track, lanes, !hold);
+  if (lanes) lanes->vertices_done();
   for (const auto& [b, e] : moving.vertices) stats.updated_vertices += e - b;
 }
 

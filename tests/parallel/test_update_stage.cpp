@@ -1,0 +1,118 @@
+// The update's coarse volumes (parallel/update.h): after every step, each vertex slot's coarse
+// volume in the leaves' lanes is its quarter volumes' on the step's grid, bit for bit, also
+// for the slots whose volumes the step keeps (a static mesh's, a resting part's), whether the
+// grid is the last step's (their coarse volumes are then not computed again) or a new one.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+
+#include <mccd/parallel/stepper.h>
+
+#include "fixtures/scenes.h"
+
+using namespace mccd;
+using namespace mccd::detail;
+
+namespace {
+
+/// Each frame's positions as one array of global vertex ids (meshes one after another).
+Positions global(const std::vector<Positions>& frame) {
+  Positions x;
+  for (const Positions& p : frame) x.xyz().insert(x.xyz().end(), p.xyz().begin(), p.xyz().end());
+  return x;
+}
+
+/// Whether the slots' coarse volumes are those of their quarters on the lanes' grid; `first`
+/// names the first slot that is not.
+bool coarse_volumes_hold(const UpdateState<Kdop18>& st, std::size_t slots, std::size_t& first) {
+  const CoarseGrid<9>& grid = st.lanes.grid();
+  for (std::size_t s = 0; s < slots; ++s) {
+    std::int16_t want[18];
+    grid.quantize(st.swept.vertex_quarters_at(static_cast<std::uint32_t>(s)).whole(), want);
+    const CoarseDop& got = st.lanes.vertex(static_cast<std::uint32_t>(s));
+    for (int k = 0; k < 9; ++k)
+      if (got.lo[k] != want[k] || got.hi[k] != want[9 + k]) {
+        first = s;
+        return false;
+      }
+  }
+  return true;
+}
+
+bool same_grid(const CoarseGrid<9>& a, const CoarseGrid<9>& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+}  // namespace
+
+TEST(UpdateStage, EverySlotsCoarseVolumeIsOnTheStepsGrid) {
+  // A folding cloth whose left half rests (its volumes kept from the second step on), a static
+  // copy of it below (kept always); after its frames the cloth flies off in long jumps, so
+  // that the grid is made anew while the static copy's volumes are kept. A query on other
+  // positions comes between two full steps.
+  const AnimatedScene fold = make_folding_cloth(12, 8);
+  AnimatedScene a;
+  TriMesh below = fold.meshes[0];
+  for (std::size_t v = 0; v < below.vertices.rows(); ++v) below.vertices(v, 2) -= 0.5;
+  a.meshes = {fold.meshes[0], below};
+  for (const auto& f : fold.frames) a.frames.push_back({f[0], below.vertices});
+  for (int jump = 1; jump <= 3; ++jump) {
+    Positions far = fold.frames.back()[0];
+    for (std::size_t v = 0; v < far.rows(); ++v) far(v, 0) += 4.0 * jump * jump;
+    a.frames.push_back({far, below.vertices});
+  }
+  SceneOptions options;
+  options.meshes = {MeshOptions{}, MeshOptions{true, false}};
+  SceneFaces faces = scene_faces(a.meshes);
+  SceneTopology topo(faces, options.meshes);
+  std::vector<Positions> frames;
+  for (const auto& f : a.frames) frames.push_back(global(f));
+  Stepper<Kdop18> stepper(topo, options, frames[0], Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets,
+                                                                                  options, frames[0]));
+  const std::size_t slots = topo.topology().num_vertices();
+  unsigned kept_grid = 0, new_grid = 0;
+  CoarseGrid<9> last{};
+  for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+    if (f == 4) {  // a query: other positions, the same grid or not
+      Positions moved = frames[f + 1];
+      for (std::size_t v = 0; v < fold.meshes[0].vertices.rows(); ++v) moved(v, 2) += 0.01;
+      stepper.start() = frames[f];
+      stepper.end() = moved;
+      (void)stepper.step(Method::Fbd, StepKind::Earliest);
+      std::size_t first = 0;
+      EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first)) << "query before step " << f << ", slot " << first;
+      last = stepper.volumes().lanes.grid();
+    }
+    stepper.start() = frames[f];
+    stepper.end() = frames[f + 1];
+    (void)stepper.step(Method::Fbd, StepKind::Full, f > 0 && f != 4);
+    const CoarseGrid<9>& grid = stepper.volumes().lanes.grid();
+    if (f > 0) ++(same_grid(grid, last) ? kept_grid : new_grid);
+    last = grid;
+    std::size_t first = 0;
+    EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first)) << "step " << f << ", slot " << first;
+  }
+  EXPECT_GT(kept_grid, 2u);  // steps whose kept slots were not quantized again
+  EXPECT_GT(new_grid, 0u);   // and steps where they had to be
+}
+
+TEST(LeafLanes, BeginSaysWhetherTheLastUpdatesCoarseVolumesHold) {
+  const AnimatedScene fold = make_folding_cloth(6, 2);
+  SceneFaces faces = scene_faces(fold.meshes);
+  SceneTopology topo(faces, {});
+  const Positions x = global(fold.frames[0]);
+  const BvhTopology bvh(triangle_bounds(faces.faces, x), BvhBuild::Sah, 8, faces.face_offsets, &faces.faces);
+  const LeafOwnership owners(bvh, topo.topology());
+  LeafLanes<Kdop18> lanes(bvh, owners);
+  CoarseGrid<9> g{}, h{};
+  for (int s = 0; s < 9; ++s) g.origin[s] = -1, g.scale[s] = 100, h.origin[s] = -2, h.scale[s] = 50;
+  EXPECT_FALSE(lanes.begin(g));  // nothing quantized yet
+  lanes.vertices_done();
+  EXPECT_TRUE(lanes.begin(g));   // the same grid after a completed update
+  EXPECT_FALSE(lanes.begin(g));  // the update since the last begin() did not complete
+  lanes.vertices_done();
+  EXPECT_FALSE(lanes.begin(h));  // another grid
+  lanes.vertices_done();
+  EXPECT_TRUE(lanes.begin(h));
+  h.scale[8] = std::nextafter(h.scale[8], 0.0f);
+  EXPECT_FALSE(lanes.begin(h));  // one bit of one slab's scale
+}
