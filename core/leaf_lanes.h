@@ -9,7 +9,9 @@
 /// count rounded up to a power of two (at least 8). Each step, quantize_vertices() computes
 /// every vertex's coarse volume from its float one, and a leaf's lanes are written from those
 /// the first time a leaf pair or the self stage asks for them (ensure()): they are in the cache
-/// then, and a leaf never asked for costs nothing (a closed body certified whole).
+/// then, and a leaf never asked for costs nothing (a closed body certified whole). A leaf that
+/// repeats the previous step (core/unchanged_leaves.h; a static mesh's, a resting part's) and
+/// had its lanes then, on the same grid, keeps them: writing them is most of a fill's cost.
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -74,6 +76,7 @@ class LeafLanes {
     leaf_.resize(bvh.size());
     still_.assign(bvh.size(), 0);
     stamp_ = std::make_unique<std::atomic<std::uint32_t>[]>(bvh.size());  // zero: never filled
+    valid_.assign(bvh.size(), 0);
     vertices_.resize(owners.layout().vertex_slot.size());
   }
 
@@ -109,10 +112,13 @@ class LeafLanes {
   bool begin(const Grid& grid) {
     const bool hold = vertices_hold_ && std::memcmp(&grid, &grid_, sizeof(Grid)) == 0;
     vertices_hold_ = false;  // until this step's update completes
+    grid_held_ = hold;
     grid_ = grid;
     if (++epoch_ == 0x7fffffffu) {  // stamps would wrap: every leaf stale explicitly
       epoch_ = 1;
       for (std::size_t i = 0; i < leaf_.size(); ++i) stamp_[i].store(0, std::memory_order_relaxed);
+      std::fill(valid_.begin(), valid_.end(), 0u);
+      grid_held_ = false;
     }
     return hold;
   }
@@ -121,15 +127,20 @@ class LeafLanes {
 
   /// Leaf `node`'s lanes, filled for this step when they are not yet (its vertices' coarse
   /// volumes from quantize_vertices(), its own from `volume`, the step's quarter volume of the
-  /// leaf). Safe from several threads: one fills, the others wait for it.
-  void ensure(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners,
-              const QuarterVolume<BV>& volume) const {
+  /// leaf). Safe from several threads: one fills, the others wait for it. `repeats`: every
+  /// corner of the leaf has the start and end positions of the previous step (and so its
+  /// volume): lanes it had in that step, on this step's grid, are kept as they are.
+  void ensure(std::uint32_t node, const BvhTopology& bvh, const LeafOwnership& owners, const QuarterVolume<BV>& volume,
+              bool repeats = false) const {
     const std::uint32_t done = 2 * epoch_, busy = done + 1;
     std::atomic<std::uint32_t>& stamp = stamp_[node];
     std::uint32_t s = stamp.load(std::memory_order_acquire);
     if (s == done) return;
     if (s != busy && stamp.compare_exchange_strong(s, busy, std::memory_order_acquire)) {
-      const_cast<LeafLanes*>(this)->fill(node, bvh, owners, volume);
+      // the lanes hold the previous step's values, which are this step's
+      const bool kept = repeats && grid_held_ && valid_[node] + 1 == epoch_;
+      if (!kept) const_cast<LeafLanes*>(this)->fill(node, bvh, owners, volume);
+      valid_[node] = epoch_;  // only the thread that holds the leaf busy writes it
       stamp.store(done, std::memory_order_release);
       return;
     }
@@ -238,6 +249,8 @@ class LeafLanes {
   const CoarseDop& vertex(std::uint32_t slot) const { return vertices_[slot]; }
   /// The step's grid (begin()).
   const Grid& grid() const { return grid_; }
+  /// Whether leaf `node`'s lanes are this step's (ensure() since begin()).
+  bool filled(std::uint32_t node) const { return stamp_[node].load(std::memory_order_acquire) == 2 * epoch_; }
 
  private:
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -276,6 +289,8 @@ class LeafLanes {
   LargeVector<std::int16_t> values_;
   Grid grid_{};
   bool vertices_hold_ = false;  ///< vertices_done() since the last begin()
+  bool grid_held_ = false;      ///< begin() found the last step's grid, its coarse volumes done
+  mutable std::vector<std::uint32_t> valid_;  ///< per node: the last epoch its lanes were this step's
   std::uint32_t epoch_ = 0;  ///< steps begun: a leaf's lanes are this step's when its stamp is 2 epoch_
   std::unique_ptr<std::atomic<std::uint32_t>[]> stamp_;  ///< per node: 2 e filled at step e, 2 e + 1 filling
   LargeVector<CoarseDop> leaf_;      ///< per node: a leaf's own coarse volume

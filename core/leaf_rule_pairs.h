@@ -113,7 +113,9 @@ class OwnedPairs {
   static constexpr unsigned kSlabs = BV::kSlabs;
 
   /// Leaf `node`'s lanes, filled for the step.
-  void ensure(std::uint32_t node) const { lanes_.ensure(node, bvh_, owners_, nodes_[node]); }
+  void ensure(std::uint32_t node) const {
+    lanes_.ensure(node, bvh_, owners_, nodes_[node], unchanged_ && unchanged_->repeats(node));
+  }
 
   /// process() past its skips.
   void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {

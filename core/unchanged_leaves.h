@@ -107,6 +107,10 @@ class UnchangedLeaves {
     return same;
   }
 
+  /// Whether leaf `leaf` repeats the previous full step (only when active(), after the refit
+  /// marked it, or of a static mesh): its corners' start and end positions and its volume.
+  bool repeats(std::uint32_t leaf) const { return active_ && unchanged_[leaf]; }
+
   /// Whether every leaf under BVH node `node` repeats the previous full step (only when
   /// active(), after the refit marked the leaves): all their corners' positions are the ones
   /// they had then, and so are the volumes of the node and of every node below it.

@@ -49,8 +49,12 @@ class Stepper {
   /// Forgets the front (the next fbd step rebuilds it from the root).
   void invalidate_front() { search_.invalidate_front(); }
   const BvttFront& front() const { return search_.front(); }
-  /// The last update's volumes (for the tests).
+  /// The last update's volumes, the BVH, its leaves' owners and its node volumes (for the
+  /// tests).
   const UpdateState<BV>& volumes() const { return volumes_; }
+  const BvhTopology& bvh() const { return bvh_; }
+  const LeafOwnership& owners() const { return owners_; }
+  const LargeVector<QuarterVolume<BV>>& node_volumes() const { return nodes_; }
 
  private:
   using Tests = FeatureTests<BV>;

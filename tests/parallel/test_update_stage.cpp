@@ -4,12 +4,14 @@
 // grid is the last step's (their coarse volumes are then not computed again) or a new one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
 #include <mccd/parallel/stepper.h>
 
 #include "fixtures/scenes.h"
+#include "fixtures/shapes.h"
 
 using namespace mccd;
 using namespace mccd::detail;
@@ -36,6 +38,41 @@ bool coarse_volumes_hold(const UpdateState<Kdop18>& st, std::size_t slots, std::
         first = s;
         return false;
       }
+  }
+  return true;
+}
+
+/// Whether every leaf whose lanes are this step's holds what a fresh fill writes from this
+/// step's volumes (its vertices', edges' and faces' blocks, its own coarse volume, still());
+/// `first` names the first leaf that does not, `checked` counts the leaves compared.
+bool lanes_hold(const Stepper<Kdop18>& st, std::uint32_t& first, unsigned& checked) {
+  const BvhTopology& bvh = st.bvh();
+  const LeafOwnership& owners = st.owners();
+  const LeafLanes<Kdop18>& kept = st.volumes().lanes;
+  LeafLanes<Kdop18> fresh(bvh, owners);
+  fresh.first_touch([](std::size_t n, const auto& body) { body(0, n); });
+  fresh.begin(kept.grid());
+  fresh.quantize_vertices(0, owners.layout().vertex_slot.size(), st.volumes().swept);
+  auto same = [](LeafLanes<Kdop18>::Block a, LeafLanes<Kdop18>::Block b) {
+    if (a.n != b.n || a.stride != b.stride) return false;
+    for (unsigned r = 0; r < 18; ++r)
+      for (unsigned j = 0; j < a.n; ++j)
+        if (a.rows[r * a.stride + j] != b.rows[r * b.stride + j]) return false;
+    return true;
+  };
+  for (std::uint32_t n = 0; n < bvh.size(); ++n) {
+    if (!bvh.leaf(n) || !kept.filled(n)) continue;
+    fresh.ensure(n, bvh, owners, st.node_volumes()[n]);
+    ++checked;
+    const LeafBlocks k = kept.blocks(n, bvh, owners), f = fresh.blocks(n, bvh, owners);
+    const bool ok = same(kept.vertices(n, owners), fresh.vertices(n, owners)) &&
+                    same(kept.edges(n, owners), fresh.edges(n, owners)) &&
+                    same(kept.faces(n, bvh), fresh.faces(n, bvh)) &&
+                    std::memcmp(k.leaf, f.leaf, sizeof(CoarseDop)) == 0 && kept.still(n) == fresh.still(n);
+    if (!ok) {
+      first = n;
+      return false;
+    }
   }
   return true;
 }
@@ -79,7 +116,8 @@ TEST(UpdateStage, EverySlotsCoarseVolumeIsOnTheStepsGrid) {
       stepper.end() = moved;
       (void)stepper.step(Method::Fbd, StepKind::Earliest);
       std::size_t first = 0;
-      EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first)) << "query before step " << f << ", slot " << first;
+      EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first))
+          << "query before step " << f << ", slot " << first;
       last = stepper.volumes().lanes.grid();
     }
     stepper.start() = frames[f];
@@ -115,4 +153,54 @@ TEST(LeafLanes, BeginSaysWhetherTheLastUpdatesCoarseVolumesHold) {
   EXPECT_TRUE(lanes.begin(h));
   h.scale[8] = std::nextafter(h.scale[8], 0.0f);
   EXPECT_FALSE(lanes.begin(h));  // one bit of one slab's scale
+}
+
+TEST(LeafLanes, LanesKeptFromTheLastStepAreWhatAFillWrites) {
+  // A cloth held still upright on a static one, touching it (a contact in every step, so
+  // their leaf pairs are looked at every step and their leaves keep their lanes), a folding
+  // cloth beside them, which at the end flies off in long jumps (a new grid: lanes filled
+  // again). After every step, each leaf's lanes are what a fresh fill writes.
+  const AnimatedScene fold = make_folding_cloth(10, 8);
+  TriMesh flat = make_grid_mesh(10, 1.0), upright = make_grid_mesh(10, 1.0);
+  double low = 1e9;
+  for (std::size_t v = 0; v < upright.vertices.rows(); ++v) low = std::min(low, upright.vertices(v, 1));
+  for (std::size_t v = 0; v < upright.vertices.rows(); ++v) {
+    // standing on the flat one: its lowest row's vertices lie inside the flat one's triangles
+    const Vec3 p = upright.vertices.point(v);
+    upright.vertices.set_point(v, Vec3(p.x() + 0.03, 0.01, p.y() - low));
+  }
+  AnimatedScene a;
+  a.meshes = {flat, upright, fold.meshes[0]};
+  for (const auto& f : fold.frames) {
+    Positions p = f[0];
+    for (std::size_t v = 0; v < p.rows(); ++v) p(v, 1) += 3.0;  // beside the others
+    a.frames.push_back({flat.vertices, upright.vertices, p});
+  }
+  for (int jump = 1; jump <= 3; ++jump) {
+    Positions far = a.frames.back()[2];
+    for (std::size_t v = 0; v < far.rows(); ++v) far(v, 0) += 4.0 * jump * jump;
+    a.frames.push_back({flat.vertices, upright.vertices, far});
+  }
+  for (MeshOptions flat_options : {MeshOptions{true, false}, MeshOptions{}}) {  // static, or held still
+    SceneOptions options;
+    options.meshes = {flat_options, MeshOptions{}, MeshOptions{}};
+    SceneFaces faces = scene_faces(a.meshes);
+    SceneTopology topo(faces, options.meshes);
+    std::vector<Positions> frames;
+    for (const auto& f : a.frames) frames.push_back(global(f));
+    Stepper<Kdop18> stepper(topo, options, frames[0],
+                            Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets, options, frames[0]));
+    std::size_t contacts = 0;
+    for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+      stepper.start() = frames[f];
+      stepper.end() = frames[f + 1];
+      contacts += stepper.step(Method::Fbd, StepKind::Full, f > 0).contacts.size();
+      std::uint32_t leaf = 0;
+      unsigned checked = 0;
+      EXPECT_TRUE(lanes_hold(stepper, leaf, checked))
+          << (flat_options.is_static ? "static" : "still") << ", step " << f << ", leaf " << leaf;
+      EXPECT_GT(checked, 0u) << "step " << f;
+    }
+    EXPECT_GT(contacts, 0u);
+  }
 }
