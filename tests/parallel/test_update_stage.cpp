@@ -1,7 +1,9 @@
-// The update's coarse volumes (parallel/update.h): after every step, each vertex slot's coarse
-// volume in the leaves' lanes is its quarter volumes' on the step's grid, bit for bit, also
-// for the slots whose volumes the step keeps (a static mesh's, a resting part's), whether the
-// grid is the last step's (their coarse volumes are then not computed again) or a new one.
+// What the update leaves for the leaves' lanes (parallel/update.h, core/leaf_lanes.h): after
+// every step, each vertex slot's coarse volume is its quarter volumes' on the step's grid, bit
+// for bit, also for the slots whose volumes the step keeps (a static mesh's, a resting part's),
+// whether the grid is the last step's (their coarse volumes are then not computed again) or a
+// new one; and every leaf's lanes, also those kept from the last step by a leaf that repeats
+// it, are what a fresh fill writes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,18 +14,12 @@
 
 #include "fixtures/scenes.h"
 #include "fixtures/shapes.h"
+#include "support/bvtt_fixture.h"
 
 using namespace mccd;
 using namespace mccd::detail;
 
 namespace {
-
-/// Each frame's positions as one array of global vertex ids (meshes one after another).
-Positions global(const std::vector<Positions>& frame) {
-  Positions x;
-  for (const Positions& p : frame) x.xyz().insert(x.xyz().end(), p.xyz().begin(), p.xyz().end());
-  return x;
-}
 
 /// Whether the slots' coarse volumes are those of their quarters on the lanes' grid; `first`
 /// names the first slot that is not.
@@ -102,7 +98,7 @@ TEST(UpdateStage, EverySlotsCoarseVolumeIsOnTheStepsGrid) {
   SceneFaces faces = scene_faces(a.meshes);
   SceneTopology topo(faces, options.meshes);
   std::vector<Positions> frames;
-  for (const auto& f : a.frames) frames.push_back(global(f));
+  for (const auto& f : a.frames) frames.push_back(test::global_positions(f));
   Stepper<Kdop18> stepper(topo, options, frames[0], Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets,
                                                                                   options, frames[0]));
   const std::size_t slots = topo.topology().num_vertices();
@@ -137,7 +133,7 @@ TEST(LeafLanes, BeginSaysWhetherTheLastUpdatesCoarseVolumesHold) {
   const AnimatedScene fold = make_folding_cloth(6, 2);
   SceneFaces faces = scene_faces(fold.meshes);
   SceneTopology topo(faces, {});
-  const Positions x = global(fold.frames[0]);
+  const Positions x = test::global_positions(fold.frames[0]);
   const BvhTopology bvh(triangle_bounds(faces.faces, x), BvhBuild::Sah, 8, faces.face_offsets, &faces.faces);
   const LeafOwnership owners(bvh, topo.topology());
   LeafLanes<Kdop18> lanes(bvh, owners);
@@ -187,7 +183,7 @@ TEST(LeafLanes, LanesKeptFromTheLastStepAreWhatAFillWrites) {
     SceneFaces faces = scene_faces(a.meshes);
     SceneTopology topo(faces, options.meshes);
     std::vector<Positions> frames;
-    for (const auto& f : a.frames) frames.push_back(global(f));
+    for (const auto& f : a.frames) frames.push_back(test::global_positions(f));
     Stepper<Kdop18> stepper(topo, options, frames[0],
                             Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets, options, frames[0]));
     std::size_t contacts = 0;
