@@ -9,9 +9,9 @@
 ///
 ///   lo(s)[q], hi(s)[q]: bounds along slab s (the axes of geometry/kdop.h) during quarter q.
 ///
-/// A slab's bounds are next to each other, slab after slab, so the box slabs (0-2) that most
-/// tests stop after fill the first 96 bytes: two cache lines wherever the value starts on a
-/// 32-byte boundary (every element of an array: 288 bytes is 9 times 32).
+/// A slab's bounds are next to each other, slab after slab: each slab's 32 bytes lie in one
+/// cache line wherever the value starts on a 32-byte boundary (every element of an array: 288
+/// bytes is 9 times 32).
 ///
 /// Bounds are float, rounded outward by whoever fills them (SweptVolumes), like the k-DOPs.
 #include <cstdint>
@@ -147,40 +147,11 @@ struct alignas(32) QuarterDop {
   }
 
   /// Bit q (0..3) set when the two volumes of quarter q overlap (touching counts), for the
-  /// quarters of `within` only (the other bits are 0). A NaN bound never separates.
-  /// overlap_mask in two parts: box_mask() tests the first three slabs (the box), rest_mask()
-  /// the others; rest_mask(o, box_mask(o, w)) == overlap_mask(o, w).
-  [[gnu::always_inline]] unsigned box_mask(const QuarterDop& o, unsigned within) const {
-    return slabs_mask(o, within, 0, Slabs < 3 ? Slabs : 3);
-  }
-  [[gnu::always_inline]] unsigned rest_mask(const QuarterDop& o, unsigned within) const {
-    return Slabs > 3 ? slabs_mask(o, within, 3, Slabs) : within & 0xFu;
-  }
-
+  /// quarters of `within` only (the other bits are 0). A NaN bound never separates. Every slab
+  /// is tested, without a branch: whether a pair is apart along the box slabs already is too
+  /// hard to predict for a branch on it to pay.
   [[gnu::always_inline]] unsigned overlap_mask(const QuarterDop& o, unsigned within = 0xF) const {
-#if defined(__SSE2__)
-    __m128 sep = _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(0)), _mm_load_ps(o.hi(0))),
-                           _mm_cmpgt_ps(_mm_load_ps(o.lo(0)), _mm_load_ps(hi(0))));
-    auto slab = [&](int s) {
-      sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(s)), _mm_load_ps(o.hi(s))),
-                                     _mm_cmpgt_ps(_mm_load_ps(o.lo(s)), _mm_load_ps(hi(s)))));
-    };
-    slab(1);
-    slab(2);
-    // Most pairs that do not overlap are apart along an axis already: stop after the box.
-    if constexpr (Slabs > 3)
-      if ((~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu) == 0) return 0;
-    for (int s = 3; s < Slabs; ++s) slab(s);
-    return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
-#else
-    unsigned mask = 0;
-    for (int q = 0; q < 4; ++q) {
-      bool sep = false;
-      for (int s = 0; s < Slabs; ++s) sep |= (lo(s)[q] > o.hi(s)[q]) | (o.lo(s)[q] > hi(s)[q]);
-      mask |= static_cast<unsigned>(!sep) << q;
-    }
-    return mask & within;
-#endif
+    return slabs_mask(o, within, 0, Slabs);
   }
 
  private:
