@@ -539,18 +539,15 @@ void fast_tests_of(const double* x0, const double* x1, const std::uint32_t (*ids
     if (direct | split) {
       LaneInside in;
       inside_lanes<VF>(pts, q, in);
-      if (direct) {
-        const RootLanes r = fast_root_lanes<VF>(q, in, q.f, zero, one, direct);
-        hit |= r.hit, miss |= r.miss, toi = r.toi;
-      }
+      V part[3][4], lo[3], hi[3];
+      unsigned three_parts = 0, one_sign[3] = {0, 0, 0}, change[3] = {0, 0, 0};
       if (split) {
         V m0, m1;
-        const unsigned three_parts = split_points_lanes(q.f, m0, m1);
+        three_parts = split_points_lanes(q.f, m0, m1);
         // the parts' coefficients: split_at(f, ef, m0) where one point, restrict_to where two;
         // both grow the bound to ef + 12 u max|c| + 2^-800
         const V mag = D::max(D::max(D::max(D::max(zero, D::abs(q.f[0])), D::abs(q.f[1])), D::abs(q.f[2])), D::abs(q.f[3]));
         const V e = D::add(D::add(ef, D::mul(D::set1(12 * 0x1p-53), mag)), D::set1(0x1p-800));
-        V part[3][4], lo[3], hi[3];
         {
           const V s = m0, s1 = D::sub(one, s);  // split_at: de Casteljau at s
           V t[4] = {q.f[0], q.f[1], q.f[2], q.f[3]};
@@ -579,20 +576,45 @@ void fast_tests_of(const double* x0, const double* x1, const std::uint32_t (*ids
             for (int c = 0; c < 4; ++c) part[j][c] = j < 2 ? D::select(three_parts, rt[c], part[j][c]) : rt[c];
           }
         }
-        unsigned pending = split;
-        for (int j = 0; j < 3 && pending; ++j) {
-          const unsigned here = pending & (j < 2 ? kAll : three_parts);
-          if (!here) continue;
-          const unsigned one_sign = definite_lanes(part[j], e) & here;
-          const unsigned change = one_sign_change_lanes(part[j], e) & here & ~one_sign;
-          pending &= ~(here & ~one_sign & ~change);  // would be halved: left open
-          if (!change) continue;
-          const RootLanes r = fast_root_lanes<VF>(q, in, part[j], lo[j], hi[j], change);
-          hit |= r.hit;
-          toi = D::select(r.hit, r.toi, toi);
-          pending &= ~(change & ~r.miss);  // a hit, or undecided there: no later part
+        for (int j = 0; j < 3; ++j) {
+          const unsigned here = split & (j < 2 ? kAll : three_parts);
+          one_sign[j] = definite_lanes(part[j], e) & here;
+          change[j] = one_sign_change_lanes(part[j], e) & here & ~one_sign[j];
         }
-        miss |= pending;  // every part passed
+      }
+      // Rounds of fast_root, each on every lane's next piece at once: [0, 1] for the direct
+      // lanes (decided in the first round); for a split lane, its parts earliest first, one of
+      // one sign skipped, one that would need halving ending the lane (open), one with one sign
+      // change taken (a miss there goes on to the next part); every part passed: no contact.
+      unsigned at[3] = {split, 0, 0}, round_direct = direct;
+      for (;;) {
+        unsigned ready[3];
+        for (int j = 0; j < 3; ++j) {
+          const unsigned exists = j < 2 ? kAll : three_parts, passed = at[j] & ~exists;
+          const unsigned skip = at[j] & exists & one_sign[j];
+          ready[j] = at[j] & exists & change[j];
+          miss |= passed | (j < 2 ? 0u : skip);
+          if (j < 2) at[j + 1] |= skip;
+          at[j] = 0;
+        }
+        const unsigned live = round_direct | ready[0] | ready[1] | ready[2];
+        if (!live) break;
+        V p[4], x = zero, y = one;
+        for (int k = 0; k < 4; ++k) p[k] = q.f[k];
+        for (int j = 0; j < 3; ++j) {
+          if (!ready[j]) continue;
+          for (int k = 0; k < 4; ++k) p[k] = D::select(ready[j], part[j][k], p[k]);
+          x = D::select(ready[j], lo[j], x);
+          y = D::select(ready[j], hi[j], y);
+        }
+        const RootLanes r = fast_root_lanes<VF>(q, in, p, x, y, live);
+        hit |= r.hit;
+        toi = D::select(r.hit, r.toi, toi);
+        miss |= round_direct & r.miss;
+        round_direct = 0;
+        at[1] |= ready[0] & r.miss;
+        at[2] |= ready[1] & r.miss;
+        miss |= ready[2] & r.miss;
       }
     }
     D::store(toi_lanes, toi);
