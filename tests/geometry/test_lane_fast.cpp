@@ -186,7 +186,10 @@ TEST(LaneFastTests, DecideAsTheScalarTestAndLeaveTheRestOpen) {
       EXPECT_GT(hits, n / 3) << level;
       EXPECT_GT(misses, n / 20) << level;
       EXPECT_GT(open, n / 12) << level;
-      EXPECT_GT(split, n / 40) << level;  // decided after splitting [0, 1] at the critical points
+      // decided after splitting [0, 1] at the critical points, a part where the root misses
+      // going on to the next: 400 (VF) and 341 (EE) of these 6000; 285 and 263 when a miss in
+      // the first part left the query open
+      EXPECT_GT(split, n / 20) << level;
     }
   }
 }
