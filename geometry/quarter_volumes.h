@@ -151,15 +151,9 @@ struct alignas(32) QuarterDop {
   /// is tested, without a branch: whether a pair is apart along the box slabs already is too
   /// hard to predict for a branch on it to pay.
   [[gnu::always_inline]] unsigned overlap_mask(const QuarterDop& o, unsigned within = 0xF) const {
-    return slabs_mask(o, within, 0, Slabs);
-  }
-
- private:
-  /// The quarters of `within` in which slabs [first, last) all overlap.
-  [[gnu::always_inline]] unsigned slabs_mask(const QuarterDop& o, unsigned within, int first, int last) const {
 #if defined(__SSE2__)
     __m128 sep = _mm_setzero_ps();
-    for (int s = first; s < last; ++s)
+    for (int s = 0; s < Slabs; ++s)
       sep = _mm_or_ps(sep, _mm_or_ps(_mm_cmpgt_ps(_mm_load_ps(lo(s)), _mm_load_ps(o.hi(s))),
                                      _mm_cmpgt_ps(_mm_load_ps(o.lo(s)), _mm_load_ps(hi(s)))));
     return ~static_cast<unsigned>(_mm_movemask_ps(sep)) & within & 0xFu;
@@ -167,7 +161,7 @@ struct alignas(32) QuarterDop {
     unsigned mask = 0;
     for (int q = 0; q < 4; ++q) {
       bool sep = false;
-      for (int s = first; s < last; ++s) sep |= (lo(s)[q] > o.hi(s)[q]) | (o.lo(s)[q] > hi(s)[q]);
+      for (int s = 0; s < Slabs; ++s) sep |= (lo(s)[q] > o.hi(s)[q]) | (o.lo(s)[q] > hi(s)[q]);
       mask |= static_cast<unsigned>(!sep) << q;
     }
     return mask & within;
