@@ -137,6 +137,64 @@ class Builder {
     }
   }
 
+  /// Ranges of at least this many triangles find their split's bounds and bins in chunks of
+  /// kSplitChunk in parallel (the top splits of a large mesh were the build's serial part).
+  /// Each chunk's minima, maxima and counts are merged afterwards: the same values in any
+  /// order, so the split does not depend on the chunks or the thread count.
+  static constexpr std::size_t kParallelSplit = 4 * kParallelBuild, kSplitChunk = 8192;
+  static constexpr int kBins = 32;  // fewer bins place the splits coarser: more volume tests
+  struct Bins {
+    std::array<std::array<Box, kBins>, 3> box;
+    std::array<std::array<std::size_t, kBins>, 3> count{};
+    void add(const Bins& o) {
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < kBins; ++b) box[a][b].grow(o.box[a][b]), count[a][b] += o.count[a][b];
+    }
+  };
+
+  /// The range's triangles by bin of their centroids (`mn` its lower corner, `scale` bins per
+  /// unit along each axis).
+  void fill_bins(std::size_t lo, std::size_t hi, const Vec3& mn, const Vec3& scale, Bins& bins) const {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const TriangleBounds& t = tris_[order_[i]];
+      for (int axis = 0; axis < 3; ++axis) {
+        const int b = std::min(kBins - 1, static_cast<int>((t.centroid[axis] - mn[axis]) * scale[axis]));
+        bins.box[axis][b].grow(Box{t.lo, t.hi});
+        ++bins.count[axis][b];
+      }
+    }
+  }
+
+  /// centroid_bounds and fill_bins of [lo, hi), in chunks in parallel where it is large.
+  void bin(std::size_t lo, std::size_t hi, Vec3& mn, Vec3& mx, Vec3& scale, Bins& bins) const {
+    auto scales = [&] {
+      for (int axis = 0; axis < 3; ++axis) {
+        const double ext = mx[axis] - mn[axis];
+        scale[axis] = ext > 0 ? kBins / ext : 0.0;
+      }
+    };
+    if (hi - lo < kParallelSplit) {
+      centroid_bounds(lo, hi, mn, mx);
+      scales();
+      fill_bins(lo, hi, mn, scale, bins);
+      return;
+    }
+    const std::size_t chunks = (hi - lo + kSplitChunk - 1) / kSplitChunk;
+    auto each_chunk = [&](auto&& body) {
+      ex_.static_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
+        for (std::size_t k = cb; k < ce; ++k) body(k, lo + k * kSplitChunk, std::min(hi, lo + (k + 1) * kSplitChunk));
+      });
+    };
+    std::vector<std::array<Vec3, 2>> corner(chunks);
+    each_chunk([&](std::size_t k, std::size_t b, std::size_t e) { centroid_bounds(b, e, corner[k][0], corner[k][1]); });
+    mn = Vec3::Constant(kInf), mx = -mn;
+    for (const auto& [a, b] : corner) mn = mn.cwiseMin(a), mx = mx.cwiseMax(b);
+    scales();
+    std::vector<Bins> part(chunks);
+    each_chunk([&](std::size_t k, std::size_t b, std::size_t e) { fill_bins(b, e, mn, scale, part[k]); });
+    for (const Bins& p : part) bins.add(p);
+  }
+
   /// Half by count along `axis` (ties by id, so the result is deterministic).
   std::size_t split_count(std::size_t lo, std::size_t hi, int axis) {
     const std::size_t m = lo + (hi - lo) / 2;
@@ -165,24 +223,9 @@ class Builder {
   /// minimising area(left) * leaves(left) + area(right) * leaves(right), leaves(n) = the
   /// leaves n triangles make at least (n / max_leaf, rounded up).
   std::size_t split_sah(std::size_t lo, std::size_t hi) {
-    constexpr int kBins = 32;  // fewer bins place the splits coarser: more volume tests
-    Vec3 mn, mx;
-    centroid_bounds(lo, hi, mn, mx);
-    std::array<std::array<Box, kBins>, 3> bins;
-    std::array<std::array<std::size_t, kBins>, 3> count{};
-    Vec3 scale;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double ext = mx[axis] - mn[axis];
-      scale[axis] = ext > 0 ? kBins / ext : 0.0;
-    }
-    for (std::size_t i = lo; i < hi; ++i) {
-      const TriangleBounds& t = tris_[order_[i]];
-      for (int axis = 0; axis < 3; ++axis) {
-        const int b = std::min(kBins - 1, static_cast<int>((t.centroid[axis] - mn[axis]) * scale[axis]));
-        bins[axis][b].grow(Box{t.lo, t.hi});
-        ++count[axis][b];
-      }
-    }
+    Vec3 mn, mx, scale;
+    Bins bins;
+    bin(lo, hi, mn, mx, scale, bins);
     // A side's cost counts the leaves its triangles will at least make, not the triangles: a
     // leaf pair costs about the same whatever its leaves' fill, so fuller leaves win (with one
     // triangle a leaf, the classic cost).
@@ -195,15 +238,15 @@ class Builder {
       Box acc;
       std::size_t n = 0;
       for (int b = kBins - 1; b > 0; --b) {
-        acc.grow(bins[axis][b]);
-        n += count[axis][b];
+        acc.grow(bins.box[axis][b]);
+        n += bins.count[axis][b];
         right_cost[b] = acc.half_area() * leaves(n);
       }
       acc = Box{};
       n = 0;
       for (int b = 0; b + 1 < kBins; ++b) {
-        acc.grow(bins[axis][b]);
-        n += count[axis][b];
+        acc.grow(bins.box[axis][b]);
+        n += bins.count[axis][b];
         const double cost = acc.half_area() * leaves(n) + right_cost[b + 1];
         if (n > 0 && n < hi - lo && cost < best) best = cost, best_axis = axis, best_bin = b;
       }
