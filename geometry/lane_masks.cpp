@@ -265,11 +265,14 @@ struct VOps {
   static F fandnot(F a, F b) { return _mm_andnot_ps(a, b); }
   static F fxor(F a, F b) { return _mm_xor_ps(a, b); }
   static I cvtt(F a) { return _mm_cvttps_epi32(a); }
-  static F itof(I a) { return _mm_cvtepi32_ps(a); }
-  static I lt(F a, F b) { return _mm_castps_si128(_mm_cmplt_ps(a, b)); }
+  static F fceil(F a) { return _mm_ceil_ps(a); }
   static I isub(I a, I b) { return _mm_sub_epi32(a, b); }
   static I iset(std::int32_t x) { return _mm_set1_epi32(x); }
   static void istore(std::int32_t* p, I a) { _mm_store_si128(reinterpret_cast<__m128i*>(p), a); }
+  static void write_coarse(const std::int32_t (&lower)[9][kLanes], const std::int32_t (&upper)[9][kLanes], unsigned m,
+                           unsigned stored, CoarseDop* out) {
+    detail::write_coarse(lower, upper, m, stored, out);
+  }
   static void store(const F (&lo)[4], const F (&hi)[4], unsigned m, unsigned stored, float* out) {
     F l[4] = {lo[0], lo[1], lo[2], lo[3]}, h[4] = {hi[0], hi[1], hi[2], hi[3]};
     _MM_TRANSPOSE4_PS(l[0], l[1], l[2], l[3]);  // register i: lane i's quarters 0-3
@@ -388,11 +391,42 @@ struct VOps {
   static F fandnot(F a, F b) { return _mm256_andnot_ps(a, b); }
   static F fxor(F a, F b) { return _mm256_xor_ps(a, b); }
   static I cvtt(F a) { return _mm256_cvttps_epi32(a); }
-  static F itof(I a) { return _mm256_cvtepi32_ps(a); }
-  static I lt(F a, F b) { return _mm256_castps_si256(_mm256_cmp_ps(a, b, _CMP_LT_OQ)); }
+  static F fceil(F a) { return _mm256_ceil_ps(a); }
   static I isub(I a, I b) { return _mm256_sub_epi32(a, b); }
   static I iset(std::int32_t x) { return _mm256_set1_epi32(x); }
   static void istore(std::int32_t* p, I a) { _mm256_store_si256(reinterpret_cast<__m256i*>(p), a); }
+  /// The free write_coarse's records, each put together in a register by three permutes of
+  /// the bounds narrowed to 16 bits (lower slabs 0-7, upper slabs 0-7, slab 8 of both) and
+  /// written whole.
+  static void write_coarse(const std::int32_t (&lower)[9][kLanes], const std::int32_t (&upper)[9][kLanes], unsigned m,
+                           unsigned stored, CoarseDop* out) {
+    // slabs s0 to s0 + 3 of `rows`: slab s of lane i at 8 (s - s0) + i
+    auto narrow4 = [](const std::int32_t (*rows)[kLanes]) {
+      const __m256i a = _mm512_cvtepi32_epi16(_mm512_loadu_si512(rows[0]));
+      const __m256i b = _mm512_cvtepi32_epi16(_mm512_loadu_si512(rows[2]));
+      return _mm512_inserti64x4(_mm512_castsi256_si512(a), b, 1);
+    };
+    const __m512i lo_a = narrow4(&lower[0]), lo_b = narrow4(&lower[4]);
+    const __m512i hi_a = narrow4(&upper[0]), hi_b = narrow4(&upper[4]);
+    // slab 8: the lower bound of lane i at i, its upper bound at 8 + i
+    const __m512i last = _mm512_castsi256_si512(_mm512_cvtepi32_epi16(_mm512_inserti64x4(
+        _mm512_castsi256_si512(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(lower[8]))),
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(upper[8])), 1)));
+    // Record entry j (lower bounds at 0-8, upper ones at 16-24) of lane 0: entries 0-7 and
+    // 16-23 from the pairs of registers above (32 and on: the second of a pair), 8 and 24
+    // from `last`; every lane's the same plus its index.
+    alignas(64) static constexpr std::int16_t kFirst[32] = {0, 8,  16, 24, 32, 40, 48, 56, 0, 0, 0, 0, 0, 0, 0, 0,
+                                                            0, 8,  16, 24, 32, 40, 48, 56, 8, 0, 0, 0, 0, 0, 0, 0};
+    const __m512i first = _mm512_load_si512(kFirst);
+    for (unsigned i = 0; i < m; ++i) {
+      if (!(stored >> i & 1u)) continue;
+      const __m512i at = _mm512_add_epi16(first, _mm512_set1_epi16(static_cast<short>(i)));
+      const __m512i lo = _mm512_maskz_permutex2var_epi16(0x000000FFu, lo_a, at, lo_b);
+      const __m512i hi = _mm512_maskz_permutex2var_epi16(0x00FF0000u, hi_a, at, hi_b);
+      const __m512i mid = _mm512_maskz_permutexvar_epi16(0x01000100u, at, last);
+      _mm512_store_si512(out + i, _mm512_or_si512(_mm512_or_si512(lo, hi), mid));
+    }
+  }
   /// A 4 x 8 transpose per 128-bit half: lane i's quarters in the low half of register i (i < 4)
   /// or the high half of register i - 4.
   static void store(const F (&lo)[4], const F (&hi)[4], unsigned m, unsigned stored, float* out) {

@@ -7,8 +7,10 @@
 //   SSE2 code's operand order, the second operand where both are zeros)
 //   F cvt(D)                     to float, rounded to nearest
 //   F fset(x), fadd, fsub, fmul, fmin, fmax, fandnot(a, b) (~a & b), fxor
-//   I cvtt(F), F itof(I), I lt(F, F) (all ones where less), I isub(I, I), I iset(x)
+//   I cvtt(F), F fceil(F), I isub(I, I), I iset(x)
 //   void istore(std::int32_t*, I)
+//   void write_coarse(lower, upper, m, stored, CoarseDop* out)
+//                                the free write_coarse's results (W = kLanes)
 //   void store(const F lo[4], const F hi[4], unsigned m, unsigned stored, float* out)
 //                                quarters 0-3 of lanes i < m in `stored` to out + 72 i (lo at 0,
 //                                hi at 4)
@@ -73,11 +75,10 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
         const typename V::F ql = V::fmin(V::fmax(V::fmul(V::fsub(whole_lo, o), k), zero), top);
         V::istore(lower[s], V::isub(V::cvtt(ql), middle));
         const typename V::F qh = V::fmax(V::fmin(V::fmul(V::fsub(whole_hi, o), k), top), zero);
-        const typename V::I t = V::cvtt(qh);
-        V::istore(upper[s], V::isub(V::isub(t, V::lt(V::itof(t), qh)), middle));  // ceiling: minus -1
+        V::istore(upper[s], V::isub(V::cvtt(V::fceil(qh)), middle));  // qh is in [0, 65535]: exact
       }
       V::store(lo, hi, m, stored, out + 72 * g + 8 * s);
     }
-    if (coarse) write_coarse(lower, upper, m, stored, coarse->out + g);
+    if (coarse) V::write_coarse(lower, upper, m, stored, coarse->out + g);
   }
 }

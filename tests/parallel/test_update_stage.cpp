@@ -81,52 +81,62 @@ TEST(UpdateStage, EverySlotsCoarseVolumeIsOnTheStepsGrid) {
   // A folding cloth whose left half rests (its volumes kept from the second step on), a static
   // copy of it below (kept always); after its frames the cloth flies off in long jumps, so
   // that the grid is made anew while the static copy's volumes are kept. A query on other
-  // positions comes between two full steps.
-  const AnimatedScene fold = make_folding_cloth(12, 8);
-  AnimatedScene a;
-  TriMesh below = fold.meshes[0];
-  for (std::size_t v = 0; v < below.vertices.rows(); ++v) below.vertices(v, 2) -= 0.5;
-  a.meshes = {fold.meshes[0], below};
-  for (const auto& f : fold.frames) a.frames.push_back({f[0], below.vertices});
-  for (int jump = 1; jump <= 3; ++jump) {
-    Positions far = fold.frames.back()[0];
-    for (std::size_t v = 0; v < far.rows(); ++v) far(v, 0) += 4.0 * jump * jump;
-    a.frames.push_back({far, below.vertices});
-  }
-  SceneOptions options;
-  options.meshes = {MeshOptions{}, MeshOptions{true, false}};
-  SceneFaces faces = scene_faces(a.meshes);
-  SceneTopology topo(faces, options.meshes);
-  std::vector<Positions> frames;
-  for (const auto& f : a.frames) frames.push_back(test::global_positions(f));
-  Stepper<Kdop18> stepper(topo, options, frames[0], Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets,
-                                                                                  options, frames[0]));
-  const std::size_t slots = topo.topology().num_vertices();
-  unsigned kept_grid = 0, new_grid = 0;
-  CoarseGrid<9> last{};
-  for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
-    if (f == 4) {  // a query: other positions, the same grid or not
-      Positions moved = frames[f + 1];
-      for (std::size_t v = 0; v < fold.meshes[0].vertices.rows(); ++v) moved(v, 2) += 0.01;
-      stepper.start() = frames[f];
-      stepper.end() = moved;
-      (void)stepper.step(Method::Fbd, StepKind::Earliest);
-      std::size_t first = 0;
-      EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first))
-          << "query before step " << f << ", slot " << first;
-      last = stepper.volumes().lanes.grid();
+  // positions comes between two full steps. At every SIMD level this processor has (the
+  // vector update writes the coarse volumes its own way).
+  struct KeepLevel {
+    SimdLevel level = lane_kernels().level;
+    ~KeepLevel() { select_simd_level(level); }
+  } restore;
+  for (SimdLevel level : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
+    if (!lane_kernels_for(level)) continue;
+    SCOPED_TRACE(to_string(level));
+    select_simd_level(level);
+    const AnimatedScene fold = make_folding_cloth(12, 8);
+    AnimatedScene a;
+    TriMesh below = fold.meshes[0];
+    for (std::size_t v = 0; v < below.vertices.rows(); ++v) below.vertices(v, 2) -= 0.5;
+    a.meshes = {fold.meshes[0], below};
+    for (const auto& f : fold.frames) a.frames.push_back({f[0], below.vertices});
+    for (int jump = 1; jump <= 3; ++jump) {
+      Positions far = fold.frames.back()[0];
+      for (std::size_t v = 0; v < far.rows(); ++v) far(v, 0) += 4.0 * jump * jump;
+      a.frames.push_back({far, below.vertices});
     }
-    stepper.start() = frames[f];
-    stepper.end() = frames[f + 1];
-    (void)stepper.step(Method::Fbd, StepKind::Full, f > 0 && f != 4);
-    const CoarseGrid<9>& grid = stepper.volumes().lanes.grid();
-    if (f > 0) ++(same_grid(grid, last) ? kept_grid : new_grid);
-    last = grid;
-    std::size_t first = 0;
-    EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first)) << "step " << f << ", slot " << first;
+    SceneOptions options;
+    options.meshes = {MeshOptions{}, MeshOptions{true, false}};
+    SceneFaces faces = scene_faces(a.meshes);
+    SceneTopology topo(faces, options.meshes);
+    std::vector<Positions> frames;
+    for (const auto& f : a.frames) frames.push_back(test::global_positions(f));
+    Stepper<Kdop18> stepper(topo, options, frames[0], Stepper<Kdop18>::build_bvh(faces.faces, faces.face_offsets,
+                                                                                    options, frames[0]));
+    const std::size_t slots = topo.topology().num_vertices();
+    unsigned kept_grid = 0, new_grid = 0;
+    CoarseGrid<9> last{};
+    for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+      if (f == 4) {  // a query: other positions, the same grid or not
+        Positions moved = frames[f + 1];
+        for (std::size_t v = 0; v < fold.meshes[0].vertices.rows(); ++v) moved(v, 2) += 0.01;
+        stepper.start() = frames[f];
+        stepper.end() = moved;
+        (void)stepper.step(Method::Fbd, StepKind::Earliest);
+        std::size_t first = 0;
+        EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first))
+            << "query before step " << f << ", slot " << first;
+        last = stepper.volumes().lanes.grid();
+      }
+      stepper.start() = frames[f];
+      stepper.end() = frames[f + 1];
+      (void)stepper.step(Method::Fbd, StepKind::Full, f > 0 && f != 4);
+      const CoarseGrid<9>& grid = stepper.volumes().lanes.grid();
+      if (f > 0) ++(same_grid(grid, last) ? kept_grid : new_grid);
+      last = grid;
+      std::size_t first = 0;
+      EXPECT_TRUE(coarse_volumes_hold(stepper.volumes(), slots, first)) << "step " << f << ", slot " << first;
+    }
+    EXPECT_GT(kept_grid, 2u);  // steps whose kept slots were not quantized again
+    EXPECT_GT(new_grid, 0u);   // and steps where they had to be
   }
-  EXPECT_GT(kept_grid, 2u);  // steps whose kept slots were not quantized again
-  EXPECT_GT(new_grid, 0u);   // and steps where they had to be
 }
 
 TEST(LeafLanes, BeginSaysWhetherTheLastUpdatesCoarseVolumesHold) {
