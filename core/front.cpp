@@ -133,18 +133,18 @@ void BvttFront::advance(const WorkerOutputs& blocks, std::size_t num_blocks, dou
 }
 
 double BvttFront::work_of(const StepStats& s) {
-  // In units of about one feature pair's box test; a front node's volume test and a leaf
-  // pair's set-up cost a few, an elementary test about a hundred.
-  return 4.0 * double(s.volume_tests) + double(CostlyNode::kLeafPairWork) * double(s.leaf_pairs) +
-         double(s.feature_box_tests) + 3.0 * double(s.vf_filtered + s.ee_filtered) +
-         80.0 * double(s.vf_tests + s.ee_tests) + 4.0 * double(s.sprouted);
+  // In units of about one feature pair's box test (with kNodeWork for each front node, added
+  // by cut()): weights fitted to the blocks' times on one thread over the generated scenes
+  // (least squares; an elementary test past the lane kernels costs about twelve).
+  return 7.0 * double(s.volume_tests) + double(CostlyNode::kLeafPairWork) * double(s.leaf_pairs) +
+         double(s.feature_box_tests) + 2.0 * double(s.vf_filtered + s.ee_filtered) +
+         12.0 * double(s.vf_tests + s.ee_tests) + 4.0 * double(s.sprouted);
 }
 
 void BvttFront::cut(const std::vector<Part>& parts) {
   cuts_.clear();
   const std::size_t n = nodes_.size();
   if (n == 0 || n > std::numeric_limits<std::uint32_t>::max()) return;  // fixed blocks
-  constexpr double kNodeWork = 4.0;  // every node: at least its volume test
   double total = 0;
   for (const Part& p : parts) total += p.work + kNodeWork * double(p.end - p.begin);
   const std::size_t block = block_size(n);

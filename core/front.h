@@ -40,9 +40,12 @@ class BvttFront {
   /// to its own place.
   void advance(const WorkerOutputs& blocks, std::size_t num_blocks, double sprout_ratio, double invalid_ratio,
                const Executor& ex = serial_executor());
-  /// The units of work of a tracked block, from its counts (a rough cost: the leaf pairs'
-  /// feature pairs and elementary tests dominate).
+  /// The units of work of a tracked block, from its counts (a rough cost: its leaf pairs'
+  /// set-up, feature pairs and elementary tests, and its volume tests).
   static double work_of(const StepStats& s);
+  /// The work every front node adds to its block besides work_of's (visiting it, reading its
+  /// nodes' volumes), in work_of's units.
+  static constexpr double kNodeWork = 15.0;
   /// Block sizes: a front of n nodes is tracked in blocks of block_size(n) nodes, `most` where
   /// that gives at least `min_blocks` blocks, else smaller ones, down to `least` (a small
   /// front is still spread over many threads). The cuts give the next tracking as many

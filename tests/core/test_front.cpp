@@ -343,7 +343,7 @@ TEST(BvttFront, CutsSplitTheCostlyPartsIntoMoreBlocks) {
     double w = 0;
     for (std::uint32_t i = cuts[k]; i < cuts[k + 1]; ++i) {
       const std::size_t b = i / 200;
-      w += BvttFront::work_of(parts[b].stats) / 200 + 4;
+      w += BvttFront::work_of(parts[b].stats) / 200 + BvttFront::kNodeWork;
     }
     work.push_back(w);
     if (cuts[k] >= 400 && cuts[k + 1] <= 600) ++in_costly;
@@ -360,7 +360,7 @@ TEST(BvttFront, CutsSplitTheCostlyPartsIntoMoreBlocks) {
   for (std::size_t lo = 0; lo < f.size(); lo += 64) {
     double w = 0;
     for (std::size_t i = lo; i < std::min<std::size_t>(f.size(), lo + 64); ++i)
-      w += BvttFront::work_of(parts[i / 200].stats) / 200 + 4;
+      w += BvttFront::work_of(parts[i / 200].stats) / 200 + BvttFront::kNodeWork;
     fixed_largest = std::max(fixed_largest, w);
   }
   EXPECT_GT(fixed_largest, 3 * largest);
