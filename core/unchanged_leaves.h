@@ -24,10 +24,10 @@
 ///  3. the refit marks each leaf whose corners all repeat, and keeps its volume;
 ///  4. leaf pairs and single leaves ask skip(), and mark the leaves of every pair that finds a
 ///     contact (relaxed atomic stores of 1: several blocks may mark one leaf).
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstring>
-#include <memory>
 #include <utility>
 #include <vector>
 
@@ -50,9 +50,8 @@ class UnchangedLeaves {
   /// step's motion noted), it may skip; the previous step's marks then become touched_before.
   /// The marks are cleared either way.
   void begin(std::size_t num_nodes, std::size_t num_vertices, bool usable, bool continues) {
-    if (touched_size_ != num_nodes) {
-      touched_ = std::make_unique<std::atomic<std::uint8_t>[]>(num_nodes);
-      touched_size_ = num_nodes;
+    if (touched_.size() != num_nodes) {
+      touched_.assign(num_nodes, 0);
       touched_before_.assign(num_nodes, 0);
       unchanged_ = static_.size() == num_nodes ? static_ : std::vector<std::uint8_t>(num_nodes, 0);
       usable = false;
@@ -65,10 +64,10 @@ class UnchangedLeaves {
     }
     active_ = usable && continues && have_prev_;
     recording_ = true;
-    for (std::size_t i = 0; i < num_nodes; ++i) {
-      touched_before_[i] = active_ ? touched_[i].load(std::memory_order_relaxed) : 0;
-      touched_[i].store(0, std::memory_order_relaxed);
-    }
+    // The last step's marks become touched_before_ (read only when active_); this step's
+    // start clear. A swap and a fill: no step runs now, so no mark is being written.
+    std::swap(touched_, touched_before_);
+    std::fill(touched_.begin(), touched_.end(), std::uint8_t(0));
   }
   /// The step did not complete, or was a query: the next step starts without a previous one.
   void forget() {
@@ -129,8 +128,8 @@ class UnchangedLeaves {
   /// Leaf pair (a, b) (or leaf a alone) found a contact (recorded in full steps only).
   void touched(std::uint32_t a, std::uint32_t b) const {
     if (!recording_) return;
-    touched_[a].store(1, std::memory_order_relaxed);
-    touched_[b].store(1, std::memory_order_relaxed);
+    std::atomic_ref<std::uint8_t>(touched_[a]).store(1, std::memory_order_relaxed);
+    std::atomic_ref<std::uint8_t>(touched_[b]).store(1, std::memory_order_relaxed);
   }
 
  private:
@@ -141,8 +140,8 @@ class UnchangedLeaves {
   std::vector<std::uint8_t> moved_, moved_before_;
   std::vector<std::uint8_t> unchanged_, touched_before_;  ///< per BVH node (leaves)
   std::vector<std::uint8_t> static_;  ///< per BVH node: a leaf of a static mesh
-  std::unique_ptr<std::atomic<std::uint8_t>[]> touched_;  ///< per BVH node: this step's marks
-  std::size_t touched_size_ = 0;
+  /// Per BVH node: this step's marks (set through std::atomic_ref by the step's threads).
+  mutable std::vector<std::uint8_t> touched_;
 };
 
 }  // namespace mccd::detail
