@@ -373,6 +373,31 @@ struct DOps {
   static V gather(const double* base, const std::int64_t* at) {
     return _mm512_i64gather_pd(_mm512_load_si512(at), base, 8);
   }
+  /// gather_points' offsets 3 id of each of the K ids of 8 items (items past m repeat the
+  /// first), a register per k: the ids loaded as they lie, picked apart by permutes.
+  using Offsets = __m512i;
+  template <unsigned K>
+  static void offsets(const std::uint32_t (*ids)[K], unsigned m, Offsets (&out)[K]) {
+    static_assert(K == 3 || K == 4, "two registers hold 8 items' ids");
+    const std::uint32_t* p = ids[0];
+    alignas(64) std::uint32_t copy[8][K];
+    if (m < 8) {
+      for (unsigned i = 0; i < 8; ++i)
+        for (unsigned k = 0; k < K; ++k) copy[i][k] = ids[i < m ? i : 0][k];
+      p = copy[0];
+    }
+    const __m512i a = _mm512_loadu_si512(p);
+    const __m512i b = _mm512_maskz_loadu_epi32(static_cast<__mmask16>((1u << (8 * K - 16)) - 1u), p + 16);
+    for (unsigned k = 0; k < K; ++k) {
+      const __m512i pick = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4,
+                                                                                 3, 2, 1, 0),
+                                                               _mm512_set1_epi32(K)),
+                                            _mm512_set1_epi32(static_cast<int>(k)));
+      const __m512i w = _mm512_cvtepu32_epi64(_mm512_castsi512_si256(_mm512_permutex2var_epi32(a, pick, b)));
+      out[k] = _mm512_add_epi64(w, _mm512_slli_epi64(w, 1));
+    }
+  }
+  static V gather_at(const double* base, Offsets at) { return _mm512_i64gather_pd(at, base, 8); }
 };
 /// LaneKernels::vertex_quarters's operations (geometry/vertex_quarters_kernel.inl).
 struct VOps {

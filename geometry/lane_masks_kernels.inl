@@ -174,18 +174,27 @@ inline P3 lerp3(const P3& a0, const P3& a1, DOps::V t1, DOps::V tau) { return ad
 
 /// Points ids[i][k] of up to W items (ids[0..m), the rest repeating the first) at t = 0 and
 /// t = 1, lane i: each coordinate of a point in one gather (offsets 3 id + coordinate).
-template <unsigned K>
+template <unsigned K, class D = DOps>  // D: a dependent name, so that only its level's branch is compiled
 inline void gather_points(const double* x0, const double* x1, const std::uint32_t (*ids)[K], unsigned m,
                           P3 (&p)[2][K]) {
-  constexpr unsigned W = DOps::kLanes;
-  alignas(64) std::int64_t at[K][W];
-  for (unsigned i = 0; i < W; ++i) {
-    const std::uint32_t* q = ids[i < m ? i : 0];
-    for (unsigned k = 0; k < K; ++k) at[k][i] = 3 * std::int64_t(q[k]);
-  }
-  for (unsigned k = 0; k < K; ++k) {
-    p[0][k] = P3{DOps::gather(x0, at[k]), DOps::gather(x0 + 1, at[k]), DOps::gather(x0 + 2, at[k])};
-    p[1][k] = P3{DOps::gather(x1, at[k]), DOps::gather(x1 + 1, at[k]), DOps::gather(x1 + 2, at[k])};
+  constexpr unsigned W = D::kLanes;
+  if constexpr (requires { typename D::Offsets; }) {  // the offsets in vector lanes
+    typename D::Offsets at[K];
+    D::template offsets<K>(ids, m, at);
+    for (unsigned k = 0; k < K; ++k) {
+      p[0][k] = P3{D::gather_at(x0, at[k]), D::gather_at(x0 + 1, at[k]), D::gather_at(x0 + 2, at[k])};
+      p[1][k] = P3{D::gather_at(x1, at[k]), D::gather_at(x1 + 1, at[k]), D::gather_at(x1 + 2, at[k])};
+    }
+  } else {
+    alignas(64) std::int64_t at[K][W];
+    for (unsigned i = 0; i < W; ++i) {
+      const std::uint32_t* q = ids[i < m ? i : 0];
+      for (unsigned k = 0; k < K; ++k) at[k][i] = 3 * std::int64_t(q[k]);
+    }
+    for (unsigned k = 0; k < K; ++k) {
+      p[0][k] = P3{D::gather(x0, at[k]), D::gather(x0 + 1, at[k]), D::gather(x0 + 2, at[k])};
+      p[1][k] = P3{D::gather(x1, at[k]), D::gather(x1 + 1, at[k]), D::gather(x1 + 2, at[k])};
+    }
   }
 }
 
