@@ -92,6 +92,20 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
+/// The sign `s` (2: none yet, 0: failed, else +1 or -1) shares with signs[0, n) (each +1, -1
+/// or 0): the common one, or 0 where they differ or one is 0. Without an early exit, so that
+/// the loop runs in vector lanes.
+int fold_signs(int s, const std::int8_t* signs, std::size_t n) {
+  if (s == 0 || n == 0) return s;
+  bool all_pos = true, all_neg = true;
+  for (std::size_t q = 0; q < n; ++q) {
+    all_pos &= signs[q] == 1;
+    all_neg &= signs[q] == -1;
+  }
+  const int batch = all_pos ? 1 : all_neg ? -1 : 0;
+  return s == 2 || s == batch ? batch : 0;
+}
+
 }  // namespace
 
 int SelfCulling::star_sign(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p0, const Vec3& a1,
@@ -216,7 +230,7 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
       for (std::size_t at = b; at < e && s != 0; at += kBatch) {
         const std::size_t n = std::min(kBatch, e - at);
         star_signs(lanes, x0.data(), x1.data(), corners + at, n, c0, c1, signs);
-        for (std::size_t q = 0; q < n && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
+        s = fold_signs(s, signs, n);
       }
       if (s != 2) merge_sign(s);
     });
@@ -229,7 +243,7 @@ bool SelfCulling::certify_closed(std::size_t k, const BvhTopology& bvh, const Me
       int s = 2;
       auto flush = [&] {
         star_signs(lanes, x0.data(), x1.data(), corners, queued, c0, c1, signs);
-        for (unsigned q = 0; q < queued && s != 0; ++q) s = s == 2 || s == signs[q] ? signs[q] : 0;
+        s = fold_signs(s, signs, queued);
         queued = 0;
       };
       for (std::uint32_t i = node + static_cast<std::uint32_t>(b); i != node + e && s != 0; ++i) {
