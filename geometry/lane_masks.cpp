@@ -254,7 +254,18 @@ struct VOps {
   using D = DOps::V;  // the double operations are DOps'
   using F = __m128;
   using I = __m128i;
-  static D gather(const double* base, const std::int64_t* at) { return DOps::gather(base, at); }
+  /// The offsets 3 v of the vertices in slots[0, m) (the lanes past m repeat the first).
+  using Offsets = __m256i;
+  static Offsets offsets(const std::uint32_t* slots, unsigned m) {
+    alignas(16) std::uint32_t copy[kLanes];
+    if (m < kLanes) {
+      for (unsigned i = 0; i < kLanes; ++i) copy[i] = slots[i < m ? i : 0];
+      slots = copy;
+    }
+    const __m256i v = _mm256_cvtepu32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(slots)));
+    return _mm256_add_epi64(v, _mm256_slli_epi64(v, 1));
+  }
+  static D gather(const double* base, Offsets at) { return _mm256_i64gather_pd(base, at, 8); }
   static F cvt(D a) { return _mm256_cvtpd_ps(a); }
   static F fset(float x) { return _mm_set1_ps(x); }
   static F fadd(F a, F b) { return _mm_add_ps(a, b); }
@@ -405,7 +416,18 @@ struct VOps {
   using D = DOps::V;  // the double operations are DOps'
   using F = __m256;
   using I = __m256i;
-  static D gather(const double* base, const std::int64_t* at) { return DOps::gather(base, at); }
+  /// The offsets 3 v of the vertices in slots[0, m) (the lanes past m repeat the first).
+  using Offsets = __m512i;
+  static Offsets offsets(const std::uint32_t* slots, unsigned m) {
+    alignas(32) std::uint32_t copy[kLanes];
+    if (m < kLanes) {
+      for (unsigned i = 0; i < kLanes; ++i) copy[i] = slots[i < m ? i : 0];
+      slots = copy;
+    }
+    const __m512i v = _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(slots)));
+    return _mm512_add_epi64(v, _mm512_slli_epi64(v, 1));
+  }
+  static D gather(const double* base, Offsets at) { return _mm512_i64gather_pd(at, base, 8); }
   static F cvt(D a) { return _mm512_cvtpd_ps(a); }
   static F fset(float x) { return _mm256_set1_ps(x); }
   static F fadd(F a, F b) { return _mm256_add_ps(a, b); }
@@ -467,11 +489,9 @@ struct VOps {
     transpose(lo, l);
     transpose(hi, h);
     if (m == 8 && stored == 0xFFu) {  // every lane (most groups): stores without a branch
-      for (unsigned i = 0; i < 4; ++i) {
-        _mm_store_ps(out + 72 * i, _mm256_castps256_ps128(l[i]));
-        _mm_store_ps(out + 72 * i + 4, _mm256_castps256_ps128(h[i]));
-        _mm_store_ps(out + 72 * (i + 4), _mm256_extractf128_ps(l[i], 1));
-        _mm_store_ps(out + 72 * (i + 4) + 4, _mm256_extractf128_ps(h[i], 1));
+      for (unsigned i = 0; i < 4; ++i) {  // lane i's lower and upper bounds side by side: one store
+        _mm256_store_ps(out + 72 * i, _mm256_permute2f128_ps(l[i], h[i], 0x20));
+        _mm256_store_ps(out + 72 * (i + 4), _mm256_permute2f128_ps(l[i], h[i], 0x31));
       }
       return;
     }

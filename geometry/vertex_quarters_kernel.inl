@@ -2,7 +2,9 @@
 // in the namespaces of the sets that have it, after they define `VOps` (a vertex per lane):
 //   kLanes                       vertices per register (4 or 8)
 //   D, F, I                      kLanes doubles, floats, 32-bit integers
-//   D gather(base, at)           base[at[i]] in lane i (at: kLanes 64-bit offsets, aligned)
+//   Offsets offsets(slots, m)    the offsets 3 v of the vertices slots[0, m), the lanes past
+//                                m repeating the first
+//   D gather(base, Offsets)      base[offset i] in lane i
 //   (the double operations are DOps': set1, add, sub, mul, min, max, abs; min and max with the
 //   SSE2 code's operand order, the second operand where both are zeros)
 //   F cvt(D)                     to float, rounded to nearest
@@ -46,8 +48,7 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
     const unsigned m = n - g >= W ? W : static_cast<unsigned>(n - g);
     const unsigned stored = ~static_cast<unsigned>(skip >> g) & ((1u << m) - 1u);
     if (!stored) continue;  // every one kept (a static mesh's vertices): nothing to compute
-    alignas(64) std::int64_t at[W];
-    for (unsigned i = 0; i < W; ++i) at[i] = 3 * std::int64_t(vertex_of_slot[g + (i < m ? i : 0)]);
+    const typename V::Offsets at = V::offsets(vertex_of_slot + g, m);
     const typename V::D ax = V::gather(x0, at), ay = V::gather(x0 + 1, at), az = V::gather(x0 + 2, at);
     const typename V::D bx = V::gather(x1, at), by = V::gather(x1 + 1, at), bz = V::gather(x1 + 2, at);
     // kdop.h's projections: x, y, z, x + y, x - y, x + z, x - z, y + z, y - z
