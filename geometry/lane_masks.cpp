@@ -51,6 +51,14 @@ void merge_lanes_by_lane(const std::int16_t* rows, unsigned stride, unsigned sla
     }
   }
 }
+/// `slots` when it holds W entries (m == W), else `copy` filled with its m entries and the
+/// first one repeated (the lanes past m of a vector kernel's last group).
+template <unsigned W>
+const std::uint32_t* padded(const std::uint32_t* slots, unsigned m, std::uint32_t (&copy)[W]) {
+  if (m >= W) return slots;
+  for (unsigned i = 0; i < W; ++i) copy[i] = slots[i < m ? i : 0];
+  return copy;
+}
 /// LaneKernels::vertex_quarters's coarse volumes: lane i < m of `stored` from its nine lower
 /// and upper bounds (lower[s][i], upper[s][i]), the unused bounds 0, into out[i].
 template <unsigned W>
@@ -257,12 +265,9 @@ struct VOps {
   /// The offsets 3 v of the vertices in slots[0, m) (the lanes past m repeat the first).
   using Offsets = __m256i;
   static Offsets offsets(const std::uint32_t* slots, unsigned m) {
-    alignas(16) std::uint32_t copy[kLanes];
-    if (m < kLanes) {
-      for (unsigned i = 0; i < kLanes; ++i) copy[i] = slots[i < m ? i : 0];
-      slots = copy;
-    }
-    const __m256i v = _mm256_cvtepu32_epi64(_mm_loadu_si128(reinterpret_cast<const __m128i*>(slots)));
+    std::uint32_t copy[kLanes];
+    const auto* at = reinterpret_cast<const __m128i*>(padded(slots, m, copy));
+    const __m256i v = _mm256_cvtepu32_epi64(_mm_loadu_si128(at));
     return _mm256_add_epi64(v, _mm256_slli_epi64(v, 1));
   }
   static D gather(const double* base, Offsets at) { return _mm256_i64gather_pd(base, at, 8); }
@@ -399,11 +404,10 @@ struct DOps {
     }
     const __m512i a = _mm512_loadu_si512(p);
     const __m512i b = _mm512_maskz_loadu_epi32(static_cast<__mmask16>((1u << (8 * K - 16)) - 1u), p + 16);
+    const __m512i item = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+    const __m512i first = _mm512_mullo_epi32(item, _mm512_set1_epi32(K));  // item i's first id
     for (unsigned k = 0; k < K; ++k) {
-      const __m512i pick = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4,
-                                                                                 3, 2, 1, 0),
-                                                               _mm512_set1_epi32(K)),
-                                            _mm512_set1_epi32(static_cast<int>(k)));
+      const __m512i pick = _mm512_add_epi32(first, _mm512_set1_epi32(static_cast<int>(k)));
       const __m512i w = _mm512_cvtepu32_epi64(_mm512_castsi512_si256(_mm512_permutex2var_epi32(a, pick, b)));
       out[k] = _mm512_add_epi64(w, _mm512_slli_epi64(w, 1));
     }
@@ -419,12 +423,9 @@ struct VOps {
   /// The offsets 3 v of the vertices in slots[0, m) (the lanes past m repeat the first).
   using Offsets = __m512i;
   static Offsets offsets(const std::uint32_t* slots, unsigned m) {
-    alignas(32) std::uint32_t copy[kLanes];
-    if (m < kLanes) {
-      for (unsigned i = 0; i < kLanes; ++i) copy[i] = slots[i < m ? i : 0];
-      slots = copy;
-    }
-    const __m512i v = _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(slots)));
+    std::uint32_t copy[kLanes];
+    const auto* at = reinterpret_cast<const __m256i*>(padded(slots, m, copy));
+    const __m512i v = _mm512_cvtepu32_epi64(_mm256_loadu_si256(at));
     return _mm512_add_epi64(v, _mm512_slli_epi64(v, 1));
   }
   static D gather(const double* base, Offsets at) { return _mm512_i64gather_pd(at, base, 8); }
