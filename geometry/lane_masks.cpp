@@ -51,12 +51,14 @@ void merge_lanes_by_lane(const std::int16_t* rows, unsigned stride, unsigned sla
     }
   }
 }
-/// `slots` when it holds W entries (m == W), else `copy` filled with its m entries and the
-/// first one repeated (the lanes past m of a vector kernel's last group).
-template <unsigned W>
-const std::uint32_t* padded(const std::uint32_t* slots, unsigned m, std::uint32_t (&copy)[W]) {
-  if (m >= W) return slots;
-  for (unsigned i = 0; i < W; ++i) copy[i] = slots[i < m ? i : 0];
+/// The ids of W items of K ids each, in a row from `ids`: `ids` itself when it holds all W
+/// (m == W), else `copy` filled with its m items and the first one repeated (the lanes past m
+/// of a vector kernel's last group).
+template <unsigned W, unsigned K>
+const std::uint32_t* padded(const std::uint32_t* ids, unsigned m, std::uint32_t (&copy)[W * K]) {
+  if (m >= W) return ids;
+  for (unsigned i = 0; i < W; ++i)
+    for (unsigned k = 0; k < K; ++k) copy[K * i + k] = ids[K * (i < m ? i : 0) + k];
   return copy;
 }
 /// LaneKernels::vertex_quarters's coarse volumes: lane i < m of `stored` from its nine lower
@@ -266,7 +268,7 @@ struct VOps {
   using Offsets = __m256i;
   static Offsets offsets(const std::uint32_t* slots, unsigned m) {
     std::uint32_t copy[kLanes];
-    const auto* at = reinterpret_cast<const __m128i*>(padded(slots, m, copy));
+    const auto* at = reinterpret_cast<const __m128i*>(padded<kLanes, 1>(slots, m, copy));
     const __m256i v = _mm256_cvtepu32_epi64(_mm_loadu_si128(at));
     return _mm256_add_epi64(v, _mm256_slli_epi64(v, 1));
   }
@@ -395,13 +397,8 @@ struct DOps {
   template <unsigned K>
   static void offsets(const std::uint32_t (*ids)[K], unsigned m, Offsets (&out)[K]) {
     static_assert(K == 3 || K == 4, "two registers hold 8 items' ids");
-    const std::uint32_t* p = ids[0];
-    alignas(64) std::uint32_t copy[8][K];
-    if (m < 8) {
-      for (unsigned i = 0; i < 8; ++i)
-        for (unsigned k = 0; k < K; ++k) copy[i][k] = ids[i < m ? i : 0][k];
-      p = copy[0];
-    }
+    std::uint32_t copy[8 * K];
+    const std::uint32_t* p = padded<8, K>(ids[0], m, copy);
     const __m512i a = _mm512_loadu_si512(p);
     const __m512i b = _mm512_maskz_loadu_epi32(static_cast<__mmask16>((1u << (8 * K - 16)) - 1u), p + 16);
     const __m512i item = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
@@ -424,7 +421,7 @@ struct VOps {
   using Offsets = __m512i;
   static Offsets offsets(const std::uint32_t* slots, unsigned m) {
     std::uint32_t copy[kLanes];
-    const auto* at = reinterpret_cast<const __m256i*>(padded(slots, m, copy));
+    const auto* at = reinterpret_cast<const __m256i*>(padded<kLanes, 1>(slots, m, copy));
     const __m512i v = _mm512_cvtepu32_epi64(_mm256_loadu_si256(at));
     return _mm512_add_epi64(v, _mm512_slli_epi64(v, 1));
   }
