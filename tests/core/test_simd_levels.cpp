@@ -14,18 +14,13 @@
 #include "fixtures/scenes.h"
 #include "support/data.h"
 #include "support/real_step.h"
+#include "support/simd_levels.h"
 
 using namespace mccd;
 
 namespace {
 
 std::vector<PositionsView> views(const std::vector<Positions>& frame) { return {frame.begin(), frame.end()}; }
-
-/// Restores the level in use when it goes out of scope.
-struct KeepLevel {
-  detail::SimdLevel level = detail::lane_kernels().level;
-  ~KeepLevel() { detail::select_simd_level(level); }
-};
 
 std::vector<detail::SimdLevel> levels() {
   std::vector<detail::SimdLevel> out;
@@ -71,7 +66,7 @@ void expect_same(const Steps& a, const Steps& b, const std::string& what) {
 }
 
 void check(const AnimatedScene& s) {
-  KeepLevel keep;
+  const test::KeepSimdLevel keep;
   SceneOptions brute;
   brute.method = Method::BruteForce;
   const Steps reference = run(s, detail::SimdLevel::Scalar, brute);
@@ -92,7 +87,7 @@ TEST(SimdLevels, ClothBallRealStep) {
   const auto dir = test::cloth_ball_frames();
   MCCD_REQUIRE_DATA(dir);
   const AnimatedScene s = test::cloth_ball_step(dir);
-  KeepLevel keep;
+  const test::KeepSimdLevel keep;
   const Steps scalar = run(s, detail::SimdLevel::Scalar);
   for (detail::SimdLevel l : levels())
     if (l != detail::SimdLevel::Scalar)

@@ -15,6 +15,8 @@
 #include <mccd/geometry/quarter_volumes.h>
 #include <mccd/geometry/swept_volumes.h>
 
+#include "support/simd_levels.h"
+
 using namespace mccd;
 using namespace mccd::detail;
 
@@ -312,10 +314,7 @@ TEST(SweptVolumes, VertexQuartersBitForBitAtEverySimdLevel) {
   layout.vertex_slot.resize(n);
   for (std::uint32_t v = 0; v < n; ++v) layout.vertex_slot[v] = v;
   std::shuffle(layout.vertex_slot.begin(), layout.vertex_slot.end(), rng);
-  struct KeepLevel {
-    SimdLevel level = lane_kernels().level;
-    ~KeepLevel() { select_simd_level(level); }
-  } restore;
+  const test::KeepSimdLevel restore;
   auto run = [&](SimdLevel level, double distance, bool keep_some) {
     select_simd_level(level);
     SweptVolumes<Kdop18> s;
@@ -367,10 +366,7 @@ TEST(SweptVolumes, VertexCoarseVolumesBitForBitWithTheirQuarters) {
   for (double c : {-2.0, 2.5}) box.add_point(Vec3(c, c * 0.5, -c));  // smaller than the points: some clamp
   const CoarseGrid<9> grid = CoarseGrid<9>::over(box);
   auto kept_slot = [](std::size_t slot) { return slot % 11 == 4; };
-  struct KeepLevel {
-    SimdLevel level = lane_kernels().level;
-    ~KeepLevel() { select_simd_level(level); }
-  } restore;
+  const test::KeepSimdLevel restore;
   for (SimdLevel level : {SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
     if (!lane_kernels_for(level)) continue;
     select_simd_level(level);

@@ -15,6 +15,7 @@
 #include "fixtures/scenes.h"
 #include "fixtures/shapes.h"
 #include "support/bvtt_fixture.h"
+#include "support/simd_levels.h"
 
 using namespace mccd;
 using namespace mccd::detail;
@@ -83,14 +84,10 @@ TEST(UpdateStage, EverySlotsCoarseVolumeIsOnTheStepsGrid) {
   // that the grid is made anew while the static copy's volumes are kept. A query on other
   // positions comes between two full steps. At every SIMD level this processor has (the
   // vector update writes the coarse volumes its own way).
-  struct KeepLevel {
-    SimdLevel level = lane_kernels().level;
-    ~KeepLevel() { select_simd_level(level); }
-  } restore;
-  for (SimdLevel level : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2, SimdLevel::Avx512}) {
-    if (!lane_kernels_for(level)) continue;
-    SCOPED_TRACE(to_string(level));
-    select_simd_level(level);
+  const test::KeepSimdLevel restore;
+  for (const LaneKernels* kernels : test::available_levels()) {
+    SCOPED_TRACE(to_string(kernels->level));
+    select_simd_level(kernels->level);
     const AnimatedScene fold = make_folding_cloth(12, 8);
     AnimatedScene a;
     TriMesh below = fold.meshes[0];

@@ -15,4 +15,10 @@ inline std::vector<const detail::LaneKernels*> available_levels() {
   return out;
 }
 
+/// Puts back the level in use when it goes out of scope (a test that selects levels).
+struct KeepSimdLevel {
+  detail::SimdLevel level = detail::lane_kernels().level;
+  ~KeepSimdLevel() { detail::select_simd_level(level); }
+};
+
 }  // namespace mccd::test
