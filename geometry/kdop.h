@@ -32,29 +32,6 @@ inline float float_down(float f) {
 }
 inline float float_up(float f) { return -float_down(-f); }
 
-/// A float strictly below / above `f` when `f` is the double x rounded to the nearest float,
-/// hence at most x / at least x: f moved out by |f| 2^-23 (at least one unit in the last place)
-/// plus the smallest normal float (for zero and subnormal f, and under flush-to-zero, which a
-/// host built with -ffast-math turns on). At most two units in the last place beyond the nearest float outside x,
-/// for a handful of instructions; +inf becomes FLT_MAX below, -inf -FLT_MAX above. NaN not expected.
-inline float float_step_down(float f) {
-  f = f < std::numeric_limits<float>::max() ? f : std::numeric_limits<float>::max();
-  return f - (std::fabs(f) * 0x1p-23f + std::numeric_limits<float>::min());
-}
-inline float float_step_up(float f) { return -float_step_down(-f); }
-#if defined(__SSE2__)
-/// float_step_down / float_step_up of four floats, lane for lane the scalar operations.
-inline __m128 floats_down(__m128 f) {
-  f = _mm_min_ps(f, _mm_set1_ps(std::numeric_limits<float>::max()));
-  const __m128 abs = _mm_andnot_ps(_mm_set1_ps(-0.0f), f);
-  return _mm_sub_ps(f, _mm_add_ps(_mm_mul_ps(abs, _mm_set1_ps(0x1p-23f)), _mm_set1_ps(std::numeric_limits<float>::min())));
-}
-inline __m128 floats_up(__m128 f) {
-  const __m128 sign = _mm_set1_ps(-0.0f);
-  return _mm_xor_ps(floats_down(_mm_xor_ps(f, sign)), sign);
-}
-#endif
-
 template <int Slabs>
 struct Dop {
   static_assert(Slabs == 3 || Slabs == 9, "Dop supports the AABB (3 slabs) and the 18-DOP (9 slabs)");

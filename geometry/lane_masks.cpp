@@ -10,6 +10,7 @@
 #include <string>
 
 #include <mccd/geometry/error.h>
+#include <mccd/geometry/quarter_volumes.h>
 
 #if defined(__x86_64__)
 #define MCCD_LANES_X86 1

@@ -172,6 +172,30 @@ struct alignas(32) QuarterDop {
 static_assert(sizeof(QuarterDop<9>) == 288, "18-DOP over four quarters: 72 floats");
 static_assert(sizeof(QuarterDop<3>) == 96, "AABB over four quarters: 24 floats");
 
+/// How far a vertex's quarter volumes (SweptVolumes::vertex_volumes and the vector kernels,
+/// LaneKernels::vertex_quarters) lie outside its path. Along each slab, quarter q's lower bound
+/// is y = min(p_q, p_q+1) - m rounded to float (the upper one: max + m), where p_k is the
+/// vertex's projection at t = k/4 computed in double and m = quarter_margin(M, d), M the largest
+/// coordinate of its two positions, d the minimum distance. Why the bound holds the exact path moved out by d:
+///  - each p_k is off the exact projection of the exact point by at most 13 units of 2^-53 M
+///    (the ends' projections, their difference, the product and the sum), and |p_k| <= 2M;
+///  - the subtraction rounds by at most 2^-53 |y|, and the float conversion by at most 2^-24 |y|
+///    (2^-23 in any rounding mode) where |y| is at least the least normal float, by less than
+///    2^-126 below that, also where a host's flush-to-zero makes the float 0;
+///  - with |y| <= 2M + m, those sum to under half of m - d (under m - d in any rounding mode).
+/// The products by powers of two are exact (short of denormal doubles), so the operations give
+/// the same bits with or without fused multiply-adds. Past the float range (rounding to
+/// nearest: the other modes round there to the largest float) a lower bound that rounds to +inf
+/// becomes the largest float, still below y, and an upper bound that rounds to -inf its
+/// negative; with M at most kQuarterNoClamp no bound rounds there (|p_k| is at most a hair over
+/// 2^127), so a caller may skip that.
+inline constexpr double kQuarterRelative = 0x1p-21;
+inline constexpr double kQuarterLeast = 0x1p-124;
+inline constexpr double kQuarterNoClamp = 0x1p126;
+inline double quarter_margin(double largest, double distance) {
+  return (largest * kQuarterRelative + (distance + distance * kQuarterRelative)) + kQuarterLeast;
+}
+
 /// The quarter volumes that go with a bounding volume type.
 template <class BV>
 using QuarterVolume = QuarterDop<BV::kSlabs>;

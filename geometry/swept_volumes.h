@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -220,19 +221,19 @@ class SweptVolumes {
     const Vec3 a(x0[3 * v], x0[3 * v + 1], x0[3 * v + 2]);
     const Vec3 b(x1[3 * v], x1[3 * v + 1], x1[3 * v + 2]);
     // The segment's projections on the slabs' axes at t = k/4, k = 0..4: those of its ends,
-    // and in between pa + (k/4)(pb - pa). Each is off the exact projection of the exact point
-    // by at most 13 units of 2^-53 of the largest coordinate M (the ends' projections, their
-    // difference, the product and the sum); each quarter's bounds are moved out by 2^-48 M,
-    // far above that, and then rounded outward to float.
+    // and in between pa + (k/4)(pb - pa); each quarter's bounds moved out by quarter_margin and
+    // rounded to the nearest float (quarter_volumes.h says why that holds the exact path).
     alignas(16) double pa[S + 1], pb[S + 1];
     BV::project(a, pa);
     BV::project(b, pb);
     pa[S] = pb[S] = 0;  // the second lane of the last pair when S is odd
-    const double margin = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()) * 0x1p-48 + min_distance;
+    const double margin = quarter_margin(std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()), min_distance);
     Quarters& q = vertex_quarters_[slot];
+    constexpr float kMax = std::numeric_limits<float>::max();
 #if defined(__SSE2__)
     // Two slabs at a time: lane i of a register holds slab s + i.
     const __m128d m = _mm_set1_pd(margin);
+    const __m128 big = _mm_set1_ps(kMax), low = _mm_set1_ps(-kMax);
     for (int s = 0; s < S; s += 2) {
       const __m128d p0 = _mm_load_pd(pa + s), p4 = _mm_load_pd(pb + s), d = _mm_sub_pd(p4, p0);
       const __m128d p1 = _mm_add_pd(p0, _mm_mul_pd(_mm_set1_pd(0.25), d));
@@ -250,11 +251,12 @@ class SweptVolumes {
                _mm_sub_pd(_mm_min_pd(p2, p3), m), _mm_sub_pd(_mm_min_pd(p3, p4), m), lo0, lo1);
       quarters(_mm_add_pd(_mm_max_pd(p0, p1), m), _mm_add_pd(_mm_max_pd(p1, p2), m),
                _mm_add_pd(_mm_max_pd(p2, p3), m), _mm_add_pd(_mm_max_pd(p3, p4), m), hi0, hi1);
-      _mm_store_ps(q.lo(s), floats_down(lo0));
-      _mm_store_ps(q.hi(s), floats_up(hi0));
+      // past the float range: +inf below becomes the largest float, -inf above its negative
+      _mm_store_ps(q.lo(s), _mm_min_ps(lo0, big));
+      _mm_store_ps(q.hi(s), _mm_max_ps(hi0, low));
       if (s + 1 < S) {
-        _mm_store_ps(q.lo(s + 1), floats_down(lo1));
-        _mm_store_ps(q.hi(s + 1), floats_up(hi1));
+        _mm_store_ps(q.lo(s + 1), _mm_min_ps(lo1, big));
+        _mm_store_ps(q.hi(s + 1), _mm_max_ps(hi1, low));
       }
     }
 #else
@@ -262,8 +264,10 @@ class SweptVolumes {
       const double d = pb[s] - pa[s];
       const double p[5] = {pa[s], pa[s] + 0.25 * d, pa[s] + 0.5 * d, pa[s] + 0.75 * d, pb[s]};
       for (int k = 0; k < 4; ++k) {
-        q.lo(s)[k] = float_step_down(static_cast<float>(std::min(p[k], p[k + 1]) - margin));
-        q.hi(s)[k] = float_step_up(static_cast<float>(std::max(p[k], p[k + 1]) + margin));
+        const float lo = static_cast<float>(std::min(p[k], p[k + 1]) - margin);
+        const float hi = static_cast<float>(std::max(p[k], p[k + 1]) + margin);
+        q.lo(s)[k] = lo < kMax ? lo : kMax;  // as _mm_min_ps(lo, big) and _mm_max_ps(hi, low)
+        q.hi(s)[k] = hi > -kMax ? hi : -kMax;
       }
     }
 #endif

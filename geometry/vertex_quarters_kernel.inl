@@ -26,23 +26,15 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
   using V = VOps;
   constexpr unsigned W = V::kLanes;
   const typename V::D quarter = DOps::set1(0.25), half = DOps::set1(0.5), three = DOps::set1(0.75);
-  const typename V::D scale = DOps::set1(0x1p-48), distance = DOps::set1(min_distance);
-  const typename V::F big = V::fset(std::numeric_limits<float>::max()), ulp = V::fset(0x1p-23f);
-  const typename V::F tiny = V::fset(std::numeric_limits<float>::min()), sign = V::fset(-0.0f);
+  const typename V::D distance = DOps::set1(min_distance);
+  // swept_volumes.h's quarter_margin, its operations in its order
+  const typename V::D relative = DOps::set1(kQuarterRelative), least = DOps::set1(kQuarterLeast);
+  const typename V::D inflated = DOps::add(distance, DOps::mul(distance, relative));
+  const typename V::D no_clamp = DOps::set1(kQuarterNoClamp);
+  const typename V::F big = V::fset(std::numeric_limits<float>::max());
+  const typename V::F low = V::fset(-std::numeric_limits<float>::max());
   const typename V::F zero = V::fset(0.0f), top = V::fset(65535.0f);
   const typename V::I middle = V::iset(32768);
-  // kdop.h's floats_down / floats_up
-  auto down = [&](typename V::F f) {
-    f = V::fmin(f, big);
-    return V::fsub(f, V::fadd(V::fmul(V::fandnot(sign, f), ulp), tiny));
-  };
-  // down's operations on -f, negated (rounding to nearest is symmetric): the same bits
-  // without the two sign flips
-  const typename V::F low = V::fset(-std::numeric_limits<float>::max());
-  auto up = [&](typename V::F f) {
-    f = V::fmax(f, low);
-    return V::fadd(f, V::fadd(V::fmul(V::fandnot(sign, f), ulp), tiny));
-  };
   alignas(32) std::int32_t lower[9][W], upper[9][W];
   for (std::size_t g = 0; g < n; g += W) {
     const unsigned m = n - g >= W ? W : static_cast<unsigned>(n - g);
@@ -56,19 +48,24 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
                                  DOps::sub(ax, az), DOps::add(ay, az), DOps::sub(ay, az)};
     const typename V::D pb[9] = {bx, by, bz, DOps::add(bx, by), DOps::sub(bx, by), DOps::add(bx, bz),
                                  DOps::sub(bx, bz), DOps::add(by, bz), DOps::sub(by, bz)};
-    // the largest coordinate (a maximum: exact in any order) times 2^-48, plus the distance
+    // the largest coordinate (a maximum: exact in any order), then the margin
     const typename V::D largest = DOps::max(DOps::max(DOps::max(DOps::abs(ax), DOps::abs(ay)), DOps::abs(az)),
                                           DOps::max(DOps::max(DOps::abs(bx), DOps::abs(by)), DOps::abs(bz)));
-    const typename V::D margin = DOps::add(DOps::mul(largest, scale), distance);
+    const typename V::D margin = DOps::add(DOps::add(DOps::mul(largest, relative), inflated), least);
+    // The bounds' overflow past the float range clamped only where a lane's coordinates come near
+    // it (bit for bit the same: below kQuarterNoClamp every bound is a finite float already).
+    const bool clamp = DOps::gt(largest, no_clamp) != 0;
     for (int s = 0; s < 9; ++s) {
       const typename V::D p0 = pa[s], p4 = pb[s], d = DOps::sub(p4, p0);
       const typename V::D p[5] = {p0, DOps::add(p0, DOps::mul(quarter, d)), DOps::add(p0, DOps::mul(half, d)),
                                   DOps::add(p0, DOps::mul(three, d)), p4};
       typename V::F lo[4], hi[4];
       for (int k = 0; k < 4; ++k) {
-        lo[k] = down(V::cvt(DOps::sub(DOps::min(p[k], p[k + 1]), margin)));
-        hi[k] = up(V::cvt(DOps::add(DOps::max(p[k], p[k + 1]), margin)));
+        lo[k] = V::cvt(DOps::sub(DOps::min(p[k], p[k + 1]), margin));
+        hi[k] = V::cvt(DOps::add(DOps::max(p[k], p[k + 1]), margin));
       }
+      if (clamp)
+        for (int k = 0; k < 4; ++k) lo[k] = V::fmin(lo[k], big), hi[k] = V::fmax(hi[k], low);
       if (coarse) {  // the merge of the quarters, on the grid
         const typename V::F whole_lo = V::fmin(lo[3], V::fmin(lo[2], V::fmin(lo[1], lo[0])));
         const typename V::F whole_hi = V::fmax(hi[3], V::fmax(hi[2], V::fmax(hi[1], hi[0])));

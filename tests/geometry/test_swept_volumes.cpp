@@ -4,11 +4,17 @@
 // coordinates, so no contact can be culled.
 #include <gtest/gtest.h>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <mccd/geometry/coarse_volumes.h>
@@ -197,6 +203,94 @@ TEST(SweptVolumes, QuarterVolumesContainTheExactPaths) {
     check_paths_are_contained<Aabb>(scale, 0.0);
   }
   check_paths_are_contained<Kdop18>(1.0, 0.01);
+}
+
+TEST(SweptVolumes, VertexQuartersHoldTheExactPathsInEveryModeAndLevel) {
+  // Every level's vertex volumes (the vector kernels where a level has them) contain the exact
+  // path of each vertex over each quarter, moved out by the minimum distance, and lie within
+  // 2^-19 of the largest coordinate (four times quarter_margin's) plus float rounding of it:
+  // rounding to nearest, also with flush-to-zero and denormals-are-zero (as a host built with
+  // -ffast-math runs), from denormal coordinates to beyond float range; rounding towards either
+  // infinity or zero, within float range (past it, those modes round to the largest float).
+  const std::size_t n = 203;
+  const MeshTopology topo(n, {});
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const test::KeepSimdLevel restore_level;
+#if defined(__SSE2__)
+  struct Restore {
+    unsigned csr = _mm_getcsr();
+    ~Restore() { _mm_setcsr(csr); }
+  } restore_csr;
+  constexpr unsigned kDaz = 0x0040u;  // denormals are zero
+  const unsigned base = restore_csr.csr & ~(_MM_ROUND_MASK | _MM_FLUSH_ZERO_MASK | kDaz);
+  const unsigned nearest = _MM_ROUND_NEAREST;
+  const std::pair<unsigned, const char*> modes[] = {{_MM_ROUND_NEAREST, "nearest"},
+                                                    {_MM_ROUND_UP, "up"},
+                                                    {_MM_ROUND_DOWN, "down"},
+                                                    {_MM_ROUND_TOWARD_ZERO, "toward zero"},
+                                                    {_MM_ROUND_NEAREST | _MM_FLUSH_ZERO_ON | kDaz, "flush to zero"}};
+#else
+  const unsigned nearest = 0u;
+  const std::pair<unsigned, const char*> modes[] = {{0u, "default"}};
+#endif
+  for (double scale : {1.0, 1e-30, 1e-38, 1e-41, 1e-45, 1e6, 1e30, 1e38, 3e38, 1e300})
+    for (double distance : {0.0, 1e-3 * scale}) {
+      std::vector<double> x0(3 * n), x1(3 * n);
+      for (std::size_t i = 0; i < 3 * n; ++i) {
+        x0[i] = scale * unit(rng);
+        x1[i] = i % 7 == 0 ? x0[i] : scale * unit(rng);  // some still
+      }
+      for (auto [mode, mode_name] : modes) {
+        if ((mode & _MM_ROUND_MASK) != nearest && scale > 1e38) continue;
+        for (const LaneKernels* kernels : test::available_levels()) {
+          SCOPED_TRACE(std::string(mode_name) + ", " + to_string(kernels->level) + ", scale " + std::to_string(scale) +
+                       ", distance " + std::to_string(distance));
+          select_simd_level(kernels->level);
+          SweptVolumes<Kdop18> sw;
+          sw.resize(topo);
+#if defined(__SSE2__)
+          _mm_setcsr(base | mode);
+#else
+          (void)mode;
+#endif
+          sw.update_vertex_slots(x0.data(), x1.data(), distance, 0, n);
+#if defined(__SSE2__)
+          _mm_setcsr(restore_csr.csr);
+#endif
+          for (std::uint32_t v = 0; v < n; ++v) {
+            long double largest = 0;
+            for (int k = 0; k < 3; ++k)
+              largest = std::max({largest, std::fabs((long double)x0[3 * v + k]), std::fabs((long double)x1[3 * v + k])});
+            const long double loose = largest * 0x1p-19L + distance * (1 + 0x1p-19L) + 0x1p-122L;
+            const QuarterDop<9>& q = sw.vertex_quarters(v);
+            for (int quarter = 0; quarter < 4; ++quarter) {
+              // the exact projections at the quarter's ends (a line: its extremes are there)
+              long double pr[2][9];
+              for (int e = 0; e < 2; ++e) {
+                const long double t = (quarter + e) / 4.0L;
+                long double p[3];
+                for (int k = 0; k < 3; ++k) p[k] = x0[3 * v + k] + t * ((long double)x1[3 * v + k] - x0[3 * v + k]);
+                const long double all[9] = {p[0],        p[1],        p[2],        p[0] + p[1], p[0] - p[1],
+                                            p[0] + p[2], p[0] - p[2], p[1] + p[2], p[1] - p[2]};
+                std::copy(all, all + 9, pr[e]);
+              }
+              for (int s = 0; s < 9; ++s) {
+                const long double lo = std::min(pr[0][s], pr[1][s]) - distance;
+                const long double hi = std::max(pr[0][s], pr[1][s]) + distance;
+                const long double got_lo = q.lo(s)[quarter], got_hi = q.hi(s)[quarter];
+                ASSERT_LE(got_lo, lo) << "vertex " << v << ", quarter " << quarter << ", slab " << s;
+                ASSERT_GE(got_hi, hi) << "vertex " << v << ", quarter " << quarter << ", slab " << s;
+                if (scale < 1e38) {  // (past float range a bound is the largest float or infinite)
+                  ASSERT_LE(lo - got_lo, loose - distance + 0x1p-22L * std::fabs(got_lo)) << "vertex " << v;
+                  ASSERT_LE(got_hi - hi, loose - distance + 0x1p-22L * std::fabs(got_hi)) << "vertex " << v;
+                }
+              }
+            }
+          }
+        }
+      }
+    }
 }
 
 TEST(SweptVolumes, LayoutMovesStorageNotValues) {
