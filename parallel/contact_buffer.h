@@ -61,6 +61,19 @@ inline unsigned position_bits(std::size_t n) { return n > 1 ? static_cast<unsign
 /// Contacts from which the join runs in parallel (below, a loop's tasks cost more than they save).
 inline constexpr std::size_t kParallelJoin = 1024;
 
+/// Buckets [0, nb) (bucket b's entries at [start[b], start[b + 1]), start ascending) cut into
+/// runs of whole buckets of about `share` entries: a run ends with the bucket that brings it
+/// to `share` or more, or with the last bucket. The runs' first buckets, then nb.
+inline std::vector<std::uint32_t> bucket_runs(const std::uint32_t* start, std::size_t nb, std::size_t share) {
+  std::vector<std::uint32_t> runs{0};
+  for (std::size_t b = 0, begun = start[0]; b < nb; ++b)
+    if (start[b + 1] - begun >= share || b + 1 == nb) {
+      runs.push_back(static_cast<std::uint32_t>(b + 1));
+      begun = start[b + 1];
+    }
+  return runs;
+}
+
 /// What the join keeps from step to step (so that its memory is reused).
 struct JoinScratch {
   LargeVector<std::uint64_t> order;
@@ -172,10 +185,16 @@ bool packed_key_order(KeyIterator keys, std::size_t n, unsigned id_bits, LargeVe
     }
     if (start[b1] > start[b0]) sorted(start[b0], start[b1]);
   };
-  if (n > kParallelJoin)
-    chunked_for(nb, std::max<std::size_t>(1, nb / 64), sort_buckets, tbb::auto_partitioner());
-  else
+  if (n <= kParallelJoin) {
     sort_buckets(0, nb);
+    return true;
+  }
+  // About 64 runs of buckets holding about as many entries each: contacts crowded into a small
+  // range of ids fill a few buckets, and runs of as many buckets each left one run most of the
+  // sorting.
+  const std::vector<std::uint32_t> runs = bucket_runs(start, nb, std::max<std::size_t>(n / 64, 256));
+  for_each_index(
+      runs.size() - 1, [&](std::size_t r) { sort_buckets(runs[r], runs[r + 1]); }, tbb::auto_partitioner());
   return true;
 }
 

@@ -72,6 +72,34 @@ TEST(ContactOrder, CrowdedKeysKeepTheirOrder) {
   for (std::size_t i = 0; i < keys.size(); ++i) ASSERT_EQ(keys[order[i] & mask], sorted[i]) << "entry " << i;
 }
 
+// The buckets' sorting runs: whole buckets in order, each run the shortest that reaches its
+// share (the last one whatever is left), on bucket sizes from empty to many times the share.
+TEST(ContactOrder, BucketRunsHoldAboutAShareEach) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t nb = 1 + rng() % 300, share = 1 + rng() % 50;
+    std::vector<std::uint32_t> start(nb + 1, 0);
+    start[0] = rng() % 3;  // (a bucket list may start anywhere)
+    for (std::size_t b = 0; b < nb; ++b) {
+      const unsigned pick = rng() % 10;
+      start[b + 1] = start[b] + (pick < 4 ? 0 : pick < 9 ? rng() % 8 : rng() % (5 * share));
+    }
+    const std::vector<std::uint32_t> runs = bucket_runs(start.data(), nb, share);
+    ASSERT_GE(runs.size(), 2u);
+    ASSERT_EQ(runs.front(), 0u);
+    ASSERT_EQ(runs.back(), nb);
+    for (std::size_t r = 0; r + 1 < runs.size(); ++r) {
+      ASSERT_LT(runs[r], runs[r + 1]) << "trial " << trial << ", run " << r;
+      const std::uint32_t held = start[runs[r + 1]] - start[runs[r]];
+      const std::uint32_t before_last = start[runs[r + 1] - 1] - start[runs[r]];
+      if (r + 2 < runs.size()) {
+        EXPECT_GE(held, share) << "trial " << trial << ", run " << r;
+      }
+      EXPECT_LT(before_last, share) << "trial " << trial << ", run " << r;
+    }
+  }
+}
+
 TEST(ContactOrder, RefusesWhenKeyAndPositionDoNotFitOneWord) {
   // 1 + 2 * 31 key bits and 2 position bits: 65.
   const std::vector<std::uint64_t> keys = random_keys(3, 31, 7);
