@@ -176,7 +176,8 @@ static_assert(sizeof(QuarterDop<3>) == 96, "AABB over four quarters: 24 floats")
 /// LaneKernels::vertex_quarters) lie outside its path. Along each slab, quarter q's lower bound
 /// is y = min(p_q, p_q+1) - m rounded to float (the upper one: max + m), where p_k is the
 /// vertex's projection at t = k/4 computed in double and m = quarter_margin(M, d), M the largest
-/// coordinate of its two positions, d the minimum distance. Why the bound holds the exact path moved out by d:
+/// coordinate of its two positions, d the minimum distance. Why the bound holds the exact path
+/// moved out by d:
 ///  - each p_k is off the exact projection of the exact point by at most 13 units of 2^-53 M
 ///    (the ends' projections, their difference, the product and the sum), and |p_k| <= 2M;
 ///  - the subtraction rounds by at most 2^-53 |y|, and the float conversion by at most 2^-24 |y|

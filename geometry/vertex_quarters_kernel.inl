@@ -27,7 +27,7 @@ void vertex_quarters(const double* x0, const double* x1, const std::uint32_t* ve
   constexpr unsigned W = V::kLanes;
   const typename V::D quarter = DOps::set1(0.25), half = DOps::set1(0.5), three = DOps::set1(0.75);
   const typename V::D distance = DOps::set1(min_distance);
-  // swept_volumes.h's quarter_margin, its operations in its order
+  // quarter_volumes.h's quarter_margin, its operations in its order
   const typename V::D relative = DOps::set1(kQuarterRelative), least = DOps::set1(kQuarterLeast);
   const typename V::D inflated = DOps::add(distance, DOps::mul(distance, relative));
   const typename V::D no_clamp = DOps::set1(kQuarterNoClamp);
