@@ -276,13 +276,10 @@ struct VOps {
   static D gather(const double* base, Offsets at) { return _mm256_i64gather_pd(base, at, 8); }
   static F cvt(D a) { return _mm256_cvtpd_ps(a); }
   static F fset(float x) { return _mm_set1_ps(x); }
-  static F fadd(F a, F b) { return _mm_add_ps(a, b); }
   static F fsub(F a, F b) { return _mm_sub_ps(a, b); }
   static F fmul(F a, F b) { return _mm_mul_ps(a, b); }
   static F fmin(F a, F b) { return _mm_min_ps(a, b); }
   static F fmax(F a, F b) { return _mm_max_ps(a, b); }
-  static F fandnot(F a, F b) { return _mm_andnot_ps(a, b); }
-  static F fxor(F a, F b) { return _mm_xor_ps(a, b); }
   static I cvtt(F a) { return _mm_cvttps_epi32(a); }
   static F fceil(F a) { return _mm_ceil_ps(a); }
   static I isub(I a, I b) { return _mm_sub_epi32(a, b); }
@@ -429,13 +426,10 @@ struct VOps {
   static D gather(const double* base, Offsets at) { return _mm512_i64gather_pd(at, base, 8); }
   static F cvt(D a) { return _mm512_cvtpd_ps(a); }
   static F fset(float x) { return _mm256_set1_ps(x); }
-  static F fadd(F a, F b) { return _mm256_add_ps(a, b); }
   static F fsub(F a, F b) { return _mm256_sub_ps(a, b); }
   static F fmul(F a, F b) { return _mm256_mul_ps(a, b); }
   static F fmin(F a, F b) { return _mm256_min_ps(a, b); }
   static F fmax(F a, F b) { return _mm256_max_ps(a, b); }
-  static F fandnot(F a, F b) { return _mm256_andnot_ps(a, b); }
-  static F fxor(F a, F b) { return _mm256_xor_ps(a, b); }
   static I cvtt(F a) { return _mm256_cvttps_epi32(a); }
   static F fceil(F a) { return _mm256_ceil_ps(a); }
   static I isub(I a, I b) { return _mm256_sub_epi32(a, b); }

@@ -8,7 +8,7 @@
 //   (the double operations are DOps': set1, add, sub, mul, min, max, abs; min and max with the
 //   SSE2 code's operand order, the second operand where both are zeros)
 //   F cvt(D)                     to float, rounded to nearest
-//   F fset(x), fadd, fsub, fmul, fmin, fmax, fandnot(a, b) (~a & b), fxor
+//   F fset(x), fsub, fmul, fmin, fmax
 //   I cvtt(F), F fceil(F), I isub(I, I), I iset(x)
 //   void istore(std::int32_t*, I)
 //   void write_coarse(lower, upper, m, stored, CoarseDop* out)
