@@ -4,6 +4,7 @@
 #include <memory>
 
 #include <CLI/App.hpp>
+#include <oneapi/tbb/task_arena.h>
 
 #include "command.h"
 #include "fixtures/drape.h"
@@ -25,7 +26,11 @@ struct DemoArgs {
 };
 
 int demo(DemoArgs& a) {
-  const auto scene = std::make_shared<AnimatedScene>(make_cloth_on_ball(a.size, std::max(6, a.size / 2), a.frames));
+  std::shared_ptr<AnimatedScene> scene;
+  tbb::task_arena arena(a.settings.threads);  // the simulation runs on the demo's threads
+  arena.execute([&] {
+    scene = std::make_shared<AnimatedScene>(make_cloth_on_ball(a.size, std::max(6, a.size / 2), a.frames));
+  });
   std::printf("a cloth of %zu triangles dropped onto a ball of %zu triangles, simulated for %d frames\n",
               scene->meshes[0].num_faces(), scene->meshes[1].num_faces(), a.frames);
   RunInput in;

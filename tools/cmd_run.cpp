@@ -35,7 +35,8 @@ int run(RunArgs& a) {
   if (!a.scene.empty() && !a.frames.empty()) throw Error("give either frame files or --scene, not both");
   if (a.scene.empty() && a.frames.empty())
     throw Error("no frames given (files, a pattern like frame%03d.ply, or --scene NAME)");
-  const RunInput input = a.scene.empty() ? input_from_files(a.frames) : input_from_scene(a.scene, a.size, a.frame_count);
+  const RunInput input = a.scene.empty() ? input_from_files(a.frames)
+                                         : input_from_scene(a.scene, a.size, a.frame_count, a.settings.threads);
   return run_frames(input, a.settings, "mccd run", nullptr, &cluster());
 }
 

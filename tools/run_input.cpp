@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <memory>
 
+#include <oneapi/tbb/task_arena.h>
+
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/frame_sequence.h>
 #include <mccd/geometry/mesh_io.h>
@@ -92,9 +94,11 @@ void check_scene_size(int size_k, int frames) {
                 std::to_string(kMaxSizeTimesFrames));
 }
 
-RunInput input_from_scene(const std::string& name, int size_k, int frames) {
+RunInput input_from_scene(const std::string& name, int size_k, int frames, int threads) {
   check_scene_size(size_k, frames);
-  auto scene = std::make_shared<AnimatedScene>(make_scene(name, size_k, frames));
+  std::shared_ptr<AnimatedScene> scene;
+  tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  arena.execute([&] { scene = std::make_shared<AnimatedScene>(make_scene(name, size_k, frames)); });
   RunInput in;
   in.description = "built-in scene " + scene->name;
   in.meshes = scene->meshes;

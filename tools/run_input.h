@@ -28,7 +28,8 @@ constexpr long kMaxSizeTimesFrames = 20000;
 void check_scene_size(int size_k, int frames);
 /// The input of `mccd run --scene NAME`: a built-in scene (cloth, spheres, random, tube,
 /// drape; fixtures/scenes.h) of about `size_k` thousand triangles and `frames` frames, held in
-/// memory. Throws mccd::Error for an unknown name or a scene too large (check_scene_size).
-RunInput input_from_scene(const std::string& name, int size_k, int frames);
+/// memory, generated on `threads` threads (0: all; the drape's simulation runs in parallel).
+/// Throws mccd::Error for an unknown name or a scene too large (check_scene_size).
+RunInput input_from_scene(const std::string& name, int size_k, int frames, int threads = 0);
 
 }  // namespace mccd::cli

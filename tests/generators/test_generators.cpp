@@ -14,6 +14,7 @@
 #include <mccd/geometry/error.h>
 #include <mccd/geometry/mesh_io.h>
 
+#include "fixtures/drape.h"
 #include "generators/generators.h"
 #include "generators/scene_cache.h"
 
@@ -89,6 +90,25 @@ TEST(Generators, DeterministicFromTheSeedOnAnyThreadCount) {
     const Captured other = capture(name, SceneSize::Tiny, 8);
     EXPECT_FALSE(one.frames.back() == other.frames.back()) << name << ": the seed changes nothing";
   }
+}
+
+TEST(DrapeFixture, SameFramesOnAnyThreadCountWithTheClothOutsideTheBall) {
+  // 140 x 140 quads: links enough per colour for the sweeps to run in parallel chunks
+  AnimatedScene one, two;
+  tbb::task_arena(1).execute([&] { one = make_cloth_on_ball(140, 8, 4); });
+  tbb::task_arena(2).execute([&] { two = make_cloth_on_ball(140, 8, 4); });
+  ASSERT_EQ(one.frames.size(), 4u);
+  ASSERT_EQ(two.frames.size(), 4u);
+  for (std::size_t f = 0; f < one.frames.size(); ++f)
+    EXPECT_TRUE(one.frames[f][0] == two.frames[f][0]) << "frame " << f << ": differs between 1 and 2 threads";
+  const Positions& last = one.frames.back()[0];
+  double top0 = -1e9, top1 = -1e9;
+  for (std::size_t i = 0; i < last.rows(); ++i) {
+    ASSERT_GE(last.point(i).norm(), 0.5 * (1 - 1e-12)) << "vertex " << i << " inside the ball";
+    top0 = std::max(top0, one.frames.front()[0](i, 2));
+    top1 = std::max(top1, last(i, 2));
+  }
+  EXPECT_LT(top1, top0) << "the cloth does not fall";
 }
 
 TEST(Generators, ClothStaysOutsideTheBallAndFalls) {

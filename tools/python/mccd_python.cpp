@@ -591,7 +591,7 @@ PyRunResult run(py::object frames, std::optional<std::string> scene, int size, i
   std::exception_ptr failure;
   std::thread worker([&] {
     try {
-      input = scene ? cli::input_from_scene(*scene, size, frame_count) : cli::input_from_files(given);
+      input = scene ? cli::input_from_scene(*scene, size, frame_count, st.threads) : cli::input_from_files(given);
       cli::run_frames(input, st, "mccd.run");
     } catch (...) {
       failure = std::current_exception();
