@@ -4,12 +4,12 @@
 #include <memory>
 
 #include <CLI/App.hpp>
-#include <oneapi/tbb/task_arena.h>
 
 #include "command.h"
 #include "fixtures/drape.h"
 #include "options.h"
 #include "run_driver.h"
+#include "run_input.h"
 #include "run_options.h"
 
 namespace {
@@ -26,18 +26,12 @@ struct DemoArgs {
 };
 
 int demo(DemoArgs& a) {
-  std::shared_ptr<AnimatedScene> scene;
-  tbb::task_arena arena(a.settings.threads);  // the simulation runs on the demo's threads
-  arena.execute([&] {
-    scene = std::make_shared<AnimatedScene>(make_cloth_on_ball(a.size, std::max(6, a.size / 2), a.frames));
-  });
+  // the simulation runs on the demo's threads
+  const RunInput in =
+      input_from_generated([&] { return make_cloth_on_ball(a.size, std::max(6, a.size / 2), a.frames); },
+                           a.settings.threads, "demo: a cloth dropped onto a ball");
   std::printf("a cloth of %zu triangles dropped onto a ball of %zu triangles, simulated for %d frames\n",
-              scene->meshes[0].num_faces(), scene->meshes[1].num_faces(), a.frames);
-  RunInput in;
-  in.description = "demo: a cloth dropped onto a ball";
-  in.meshes = scene->meshes;
-  in.frames = scene->frames.size();
-  in.frame = [scene](std::size_t i) { return scene->frames.at(i); };
+              in.meshes[0].num_faces(), in.meshes[1].num_faces(), a.frames);
   a.settings.up = Vec3(0, 0, 1);  // the simulation's gravity is along -z
   a.settings.exit_zero = true;  // the demo is meant to find contacts
   // the picture: two fifths of the way through, when the cloth wraps the ball (the help says so)

@@ -96,11 +96,15 @@ void check_scene_size(int size_k, int frames) {
 
 RunInput input_from_scene(const std::string& name, int size_k, int frames, int threads) {
   check_scene_size(size_k, frames);
+  return input_from_generated([&] { return make_scene(name, size_k, frames); }, threads, "built-in scene " + name);
+}
+
+RunInput input_from_generated(const std::function<AnimatedScene()>& make, int threads, std::string description) {
   std::shared_ptr<AnimatedScene> scene;
   tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  arena.execute([&] { scene = std::make_shared<AnimatedScene>(make_scene(name, size_k, frames)); });
+  arena.execute([&] { scene = std::make_shared<AnimatedScene>(make()); });
   RunInput in;
-  in.description = "built-in scene " + scene->name;
+  in.description = std::move(description);
   in.meshes = scene->meshes;
   in.frames = scene->frames.size();
   in.frame = [scene](std::size_t i) { return scene->frames.at(i); };

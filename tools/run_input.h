@@ -2,9 +2,11 @@
 /// @file The frames of a sequence on disk, as `mccd run` and `mccd batch` take them: files in
 /// order, one printf pattern, or one folder (its .ply and .obj files in natural order); and
 /// the built-in scenes of `mccd run --scene`. Shared with the Python module (tools/python).
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "fixtures/scenes.h"
 #include "run_driver.h"
 
 namespace mccd::cli {
@@ -31,5 +33,8 @@ void check_scene_size(int size_k, int frames);
 /// memory, generated on `threads` threads (0: all; the drape's simulation runs in parallel).
 /// Throws mccd::Error for an unknown name or a scene too large (check_scene_size).
 RunInput input_from_scene(const std::string& name, int size_k, int frames, int threads = 0);
+/// The input of a scene that `make()` generates, held in memory, generated on `threads`
+/// threads (0: all), described as `description` (input_from_scene, `mccd demo`).
+RunInput input_from_generated(const std::function<AnimatedScene()>& make, int threads, std::string description);
 
 }  // namespace mccd::cli
