@@ -83,12 +83,10 @@ class BvttFront {
   /// block's part of the next front, out.stats its S and B counts. The block's sprouts do at
   /// most `max_work` units of work together (Bvtt::traverse): what is left of a sprout past
   /// that goes to out.left, for the caller to traverse (recording the stops: the rest of the
-  /// next front, all of it sprouted). `touch_ahead`: the data of the leaf pair a few nodes
-  /// ahead is read before it is needed (Leaf::touch), so that its cache misses overlap the
-  /// work in between.
+  /// next front, all of it sprouted).
   template <class Bvtt>
   static void track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                    std::size_t max_work = static_cast<std::size_t>(-1), bool touch_ahead = true);
+                    std::size_t max_work = static_cast<std::size_t>(-1));
   /// The same tests for a query: the front is read, not changed (nothing is recorded;
   /// overlapping inner nodes are traversed below, up to `max_work` as in track()). Stops
   /// when the query stops.
@@ -97,7 +95,7 @@ class BvttFront {
                              std::size_t max_work = static_cast<std::size_t>(-1));
 
  private:
-  static constexpr int kAhead = 4;  ///< front nodes ahead whose leaf pair is touched
+  static constexpr int kAhead = 8;  ///< front nodes ahead whose volumes are prefetched
   /// A part of the next front for cut(): nodes [begin, end), their work (work_of), and its
   /// costly nodes (at: from begin, ascending).
   struct Part {
@@ -128,17 +126,13 @@ void sprout_within(const Bvtt& bvtt, WorkerOutput& out, std::size_t& budget) {
 
 template <class Bvtt>
 void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* end, WorkerOutput& out,
-                      std::size_t max_work, bool touch_ahead) {
+                      std::size_t max_work) {
   const auto& bvh = bvtt.bvh();
   std::size_t budget = max_work;
-  std::uint32_t touched = 0;
   for (const NodePair* it = begin; it != end; ++it) {
     const NodePair n = *it;
     MCCD_ASSERT(n.a < bvh.size() && n.b < bvh.size() && n.a <= n.b, "front node out of range");
-    // the data of a leaf pair a few nodes ahead, read now (Leaf::touch)
-    if (touch_ahead && it + kAhead < end && bvh.leaf(it[kAhead].a) && bvh.leaf(it[kAhead].b))
-      touched += bvtt.leaf().touch(it[kAhead].a, it[kAhead].b);
-    if (it + 2 * kAhead < end) bvtt.prefetch(it[2 * kAhead]);  // the node volumes further ahead
+    if (it + kAhead < end) bvtt.prefetch(it[kAhead]);  // the node volumes a few nodes ahead
     if (bvtt.culled(n, out)) {
       out.front.push_back(n);
       continue;
@@ -171,7 +165,6 @@ void BvttFront::track(const Bvtt& bvtt, const NodePair* begin, const NodePair* e
       out.stats.sprouted += out.front.size() - before;
     }
   }
-  asm volatile("" ::"r"(touched));
   bvtt.finish(out);
 }
 

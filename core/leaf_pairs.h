@@ -77,10 +77,6 @@ class LeafPairs {
     if (owned_rule_) owned_.finish(out);
   }
 
-  /// Reads what the leaf pair (a, b) reads first, ahead of it (OwnedPairs::touch); returns
-  /// a value to keep the loads.
-  std::uint32_t touch(std::uint32_t a, std::uint32_t b) const { return owned_rule_ ? owned_.touch(a, b) : 0; }
-
   /// The units of the self stage (the pairs that no BVTT pair node holds), each independent:
   /// leaf rule, one per leaf of a mesh with self-collision; canonical rule, one.
   std::size_t num_self_units() const { return owned_rule_ ? self_leaves_.size() : 1; }

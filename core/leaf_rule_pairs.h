@@ -65,30 +65,6 @@ class OwnedPairs {
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
-  /// Reads what a leaf pair (a, b) reads first, to have it in the cache when it comes: plain
-  /// loads, independent of each other, so that their cache misses overlap (a leaf pair's own
-  /// loads depend on each other and wait one after another; software prefetches did not help).
-  /// Only what no thread writes during the search: what filling the leaves' lanes reads
-  /// (LeafLanes::ensure), not the lanes.
-  std::uint32_t touch(std::uint32_t a, std::uint32_t b) const {
-    std::uint32_t sum = 0;
-    auto lines = [&](const void* from, const void* to) {
-      for (const char* p = static_cast<const char*>(from); p < static_cast<const char*>(to); p += 64)
-        sum += static_cast<unsigned char>(*p);
-    };
-    for (std::uint32_t x : {a, b}) {
-      const std::uint32_t vb = owners_.vertex_begin(x), ve = owners_.vertex_begin(x + 1);
-      const std::uint32_t eb = owners_.edge_begin(x), ee = owners_.edge_begin(x + 1);
-      const std::uint32_t fb = bvh_.leaf_first(x), fe = fb + bvh_.leaf_count(x);
-      lines(&lanes_.vertex(vb), &lanes_.vertex(ve));
-      lines(&tests_.swept().edge_end_slots_at(eb), &tests_.swept().edge_end_slots_at(ee));
-      lines(&owners_.face_corner_slots(fb), &owners_.face_corner_slots(fe));
-      lines(&owners_.edge_ends(eb), &owners_.edge_ends(ee));
-      lines(&owners_.face_corners(fb), &owners_.face_corners(fe));
-    }
-    return sum;
-  }
-
   /// The pairs inside one leaf: its owned vertices against its faces, its owned edges against
   /// each other.
   void process_self(std::uint32_t leaf, WorkerOutput& out) const {

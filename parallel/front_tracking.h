@@ -12,7 +12,6 @@
 #include <vector>
 
 #include <oneapi/tbb/partitioner.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include <mccd/core/front.h>
 #include <mccd/parallel/contact_buffer.h>
@@ -74,9 +73,6 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
   if (blocks.size() < n) blocks.resize(n);
   const bool serial = nodes.size() <= kSerialBlocks * kFrontBlock;
   const std::size_t budget = serial ? static_cast<std::size_t>(-1) : task_work;
-  // The next leaf pairs' data is read ahead only where the arena has several threads: on one
-  // thread that was measured slower (perf/results/history.md, 2026-11-27).
-  const bool touch_ahead = tbb::this_task_arena::max_concurrency() > 1;
   auto run = [&](std::size_t b) {
     WorkerOutput& o = blocks[b];
     o.clear();
@@ -85,7 +81,7 @@ std::size_t track_front(const Bvtt& bvtt, const BvttFront& front, WorkerOutputs&
     if (readonly)
       BvttFront::track_readonly(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     else
-      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget, touch_ahead);
+      BvttFront::track(bvtt, nodes.data() + lo, nodes.data() + hi, o, budget);
     if (!o.left.empty()) {
       const std::size_t before = o.front.size();
       if (readonly)
