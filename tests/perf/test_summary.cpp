@@ -166,3 +166,28 @@ TEST(HarnessSummary, WorkSpanPredictsEachStageAndTheTimeOutside) {
   EXPECT_NEAR(predicted_from_ms(r, 4, 2, 4.0), 4.0 * 3.03125 / 3.6875, 1e-12);
   EXPECT_NEAR(predicted_from_ms(r, 2, 2, 4.0), 4.0, 1e-12);
 }
+
+TEST(HarnessReport, WorkSpanTableShowsTheWorkOnTwoThreadsBesideOne) {
+  // One scene measured on 1 thread and on 2 (2 intervals): the search's work 8 -> 10 ms, so
+  // 4 -> 5 ms a frame, 1.25 times; the update's 2 -> 1.5 ms, 0.75 times.
+  RunRecord one;
+  one.scene = "s", one.method = Method::Fbd, one.intervals = 2, one.wall_ms = 12, one.config = "work-span";
+  one.sum.ws_update = {2e-3, 0.5e-3};
+  one.sum.ws_search = {8e-3, 1e-3};
+  one.sum.ws_branch = one.sum.ws_search;
+  RunRecord two = one;
+  two.threads = 2, two.config = "work-span-2";
+  two.sum.ws_update = {1.5e-3, 0.5e-3};
+  two.sum.ws_search = {10e-3, 1e-3};
+  two.sum.ws_branch = two.sum.ws_search;
+  MachineInfo m;
+  m.name = "test", m.cpu = "a CPU", m.hardware_threads = 2;
+  const std::string text = report_markdown(m, {}, summarize({one, two}));
+  EXPECT_NE(text.find("| s | fbd | search | 4.000 | 0.500 | 8.0 | 5.000 | 1.25 |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| s | fbd | update | 1.000 | 0.250 | 4.0 | 0.750 | 0.75 |"), std::string::npos) << text;
+  // without the 2-thread runs the columns say so
+  const std::string alone = report_markdown(m, {}, summarize({one}));
+  EXPECT_NE(alone.find("| s | fbd | search | 4.000 | 0.500 | 8.0 | - | - |"), std::string::npos) << alone;
+  // the 2-thread record is no row of its own in the prediction table
+  EXPECT_EQ(text.find("| s | fbd | 2 | "), std::string::npos) << text;
+}
