@@ -18,8 +18,10 @@ namespace mccd::bench {
 /// One run of a workload from a fresh scene: its statistics added over all its steps.
 struct RunRecord {
   std::string scene;
-  /// "default" (the library's defaults), or "paper": the paper's configuration (its median BVH,
-  /// one triangle per leaf, the canonical rule with its orphan set), run for figures 7 and 9.
+  /// "default" (the library's defaults); "paper": the paper's configuration (its median BVH,
+  /// one triangle per leaf, the canonical rule with its orphan set), run for figures 7 and 9;
+  /// "work-span" and "work-span-2": the defaults with the stages' work and span measured, on 1
+  /// and on 2 threads (SweepOptions::work_span_runs).
   std::string config = "default";
   Method method = Method::Fbd;
   int threads = 1;
@@ -49,7 +51,8 @@ struct SweepOptions {
   /// Also runs each method three times on 1 thread with its stages' work and span measured
   /// (SceneOptions::work_span; config "work-span", checked against the reference; each
   /// stage's least work and span of the three kept, as one record), from which the report
-  /// predicts every thread count (predicted_ms).
+  /// predicts every thread count (predicted_ms); and, when `threads` holds more than 1, three
+  /// times on 2 threads the same way (config "work-span-2"), whose work the report shows beside.
   bool work_span_runs = true;
   std::function<void(const std::string&)> progress;    ///< one line per run, may be empty
 };
