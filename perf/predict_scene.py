@@ -56,24 +56,23 @@ def main():
     steps = len(frames) - 1
     triangles = sum(len(f) for _, f, _ in meshes)
 
-    # the measured runs: each stage's least work and span of three; the time outside the
-    # stages run by run (a run's time less its stages' work), the least of three
-    least = {name: [float("inf"), float("inf")] for name in STAGES}
-    outside = float("inf")
-    for _ in range(3):
-        _, total, sums = run(meshes, frames, 1, True)
-        outside = min(outside, max(0.0, total - sum(w for w, _ in sums.values())))
-        for name in STAGES:
-            least[name][0] = min(least[name][0], sums[name][0])
-            least[name][1] = min(least[name][1], sums[name][1])
+    def measured(threads):
+        """Three measured runs on `threads`: each stage's least work and span, and the least
+        time outside the stages, run by run (a run's time less its stages' work)."""
+        least = {name: [float("inf"), float("inf")] for name in STAGES}
+        outside = float("inf")
+        for _ in range(3):
+            _, total, sums = run(meshes, frames, threads, True)
+            outside = min(outside, max(0.0, total - sum(w for w, _ in sums.values())))
+            for name in STAGES:
+                least[name][0] = min(least[name][0], sums[name][0])
+                least[name][1] = min(least[name][1], sums[name][1])
+        return least, outside
 
-    # the same on 2 threads: the work that only several threads spend (memory moved between
-    # cores, code run only there), which the 1-thread prediction does not see
-    work2 = {name: float("inf") for name in STAGES}
-    for _ in range(3):
-        sums = run(meshes, frames, 2, True)[2]
-        for name in STAGES:
-            work2[name] = min(work2[name], sums[name][0])
+    least, outside = measured(1)
+    # the work on 2 threads: what only several threads spend (memory moved between cores, code
+    # run only there), which the 1-thread prediction does not see
+    work2 = {name: w for name, (w, _) in measured(2)[0].items()}
 
     def predicted(p):
         return outside + sum(s + (w - s) / p for w, s in least.values())
