@@ -61,7 +61,9 @@ class OwnedPairs {
       ++out.stats.repeated_leaf_pairs;
       return;
     }
-    find(a, b, within, out);
+    if constexpr (kWideable)
+      if (wide()) find_wide(a, b, within, out);
+    if (!wide()) find<false>(a, b, within, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -73,7 +75,9 @@ class OwnedPairs {
       ++out.stats.repeated_leaf_pairs;
       return;
     }
-    find_self(leaf, out);
+    if constexpr (kWideable)
+      if (wide()) find_self_wide(leaf, out);
+    if (!wide()) find_self<false>(leaf, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -87,6 +91,65 @@ class OwnedPairs {
 
  private:
   static constexpr unsigned kSlabs = BV::kSlabs;
+#if defined(MCCD_WIDE_QUARTERS)
+  static constexpr bool kWideable = kSlabs == 9;
+#else
+  static constexpr bool kWideable = false;
+#endif
+
+  /// Whether the leaf pairs' loops run their AVX-512 copies (find_wide(), find_self_wide()):
+  /// the 18-DOP, on a processor with AVX-512 at the level in use (MCCD_SIMD can ask for less).
+  static bool wide() { return kWideable && lane_kernels().level == SimdLevel::Avx512; }
+#if defined(MCCD_WIDE_QUARTERS)
+  /// find() and find_self() compiled for AVX-512, every call inlined (the quarter volumes' tests
+  /// and merges in its registers: wide_overlap_mask() and the merges in quarter_volumes.h).
+  MCCD_WIDE_TARGET __attribute__((flatten)) void find_wide(std::uint32_t a, std::uint32_t b, unsigned within,
+                                                           WorkerOutput& out) const {
+    find<true>(a, b, within, out);
+  }
+  MCCD_WIDE_TARGET __attribute__((flatten)) void find_self_wide(std::uint32_t leaf, WorkerOutput& out) const {
+    find_self<true>(leaf, out);
+  }
+#else
+  void find_wide(std::uint32_t, std::uint32_t, unsigned, WorkerOutput&) const {}
+  void find_self_wide(std::uint32_t, WorkerOutput&) const {}
+#endif
+  /// out.merge_of(a, b), and a.overlap_mask(b, within) given held(a): SSE2 or AVX-512 (Wide).
+  template <bool Wide>
+  static void merged_into(Quarters& out, const Quarters& a, const Quarters& b) {
+#if defined(MCCD_WIDE_QUARTERS)
+    if constexpr (Wide) return wide_merge_of(out, a, b);
+#endif
+    out.merge_of(a, b);
+  }
+  template <bool Wide>
+  static void merge_into(Quarters& out, const Quarters& o) {
+#if defined(MCCD_WIDE_QUARTERS)
+    if constexpr (Wide) return wide_merge(out, o);
+#endif
+    out.merge(o);
+  }
+  /// What overlap() takes for `a`: a itself, or with Wide its bounds swapped (wide_swapped()).
+  template <bool Wide>
+  static void hold(const Quarters& a, Quarters& held) {
+#if defined(MCCD_WIDE_QUARTERS)
+    if constexpr (Wide) return wide_swapped(a, held);
+#endif
+    held = a;
+  }
+  template <bool Wide>
+  static unsigned overlap(const Quarters& held, const Quarters& b) {
+#if defined(MCCD_WIDE_QUARTERS)
+    if constexpr (Wide) return wide_overlap_mask(held, b);
+#endif
+    return held.overlap_mask(b);
+  }
+  /// swept.edge_quarters_into(slot, q).
+  template <bool Wide>
+  static void edge_quarters(const SweptVolumes<BV>& swept, std::uint32_t slot, Quarters& q) {
+    const Edge& c = swept.edge_end_slots_at(slot);
+    merged_into<Wide>(q, swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
+  }
 
   /// Leaf `node`'s lanes, filled for the step.
   void ensure(std::uint32_t node) const {
@@ -94,6 +157,7 @@ class OwnedPairs {
   }
 
   /// process() past its skips.
+  template <bool Wide>
   void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     ensure(a);
@@ -103,8 +167,8 @@ class OwnedPairs {
     PairMasks m;
     lane_kernels().pair_masks(kSlabs, lanes_.blocks(a, bvh_, owners_), lanes_.blocks(b, bvh_, owners_), m);
     const bool defer = deferring_ && lanes_.still(a) && lanes_.still(b);
-    vertices_against<false>(a, b, m.alive_va, m.vertex_faces_ab, out, defer, within);
-    vertices_against<false>(b, a, m.alive_vb, m.vertex_faces_ba, out, defer, within);
+    vertices_against<false, Wide>(a, b, m.alive_va, m.vertex_faces_ab, out, defer, within);
+    vertices_against<false, Wide>(b, a, m.alive_vb, m.vertex_faces_ba, out, defer, within);
     if (!m.alive_ea || !m.alive_eb) return;
     // Pairs of edges that share an end always meet (both volumes hold the end's): they are
     // told apart among those, and not counted as tests.
@@ -116,7 +180,7 @@ class OwnedPairs {
       for (std::uint64_t left = m.alive_ea; left; left &= left - 1) need |= m.edges[std::countr_zero(left)];
       for (; need; need &= need - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(need));
-        swept.edge_quarters_into(fb + j, qb[j]);
+        edge_quarters<Wide>(swept, fb + j, qb[j]);
       }
     }
     const LeafOwnership::EndFilter& ends_b = owners_.end_filter(b);  // most edges share no end with b's
@@ -152,12 +216,13 @@ class OwnedPairs {
           if (shares_end(x, ends_at_b[j])) meet &= ~(std::uint64_t(1) << j);
         }
       if (!meet) continue;
-      Quarters qx;
-      swept.edge_quarters_into(sa, qx);
+      Quarters qx, held;
+      edge_quarters<Wide>(swept, sa, qx);
+      hold<Wide>(qx, held);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         ++tested;
-        const unsigned mq = qx.overlap_mask(qb[j]);
+        const unsigned mq = overlap<Wide>(held, qb[j]);
         *end = Tests::ee_entry(ea, x, ids_b[j], ends_at_b[j], mq, a, b);
         end += mq != 0;
       }
@@ -168,6 +233,7 @@ class OwnedPairs {
 
   /// process_self() past its skips. Only the pairs that are not adjacent (fixed per leaf:
   /// LeafOwnership's apart masks) are tested.
+  template <bool Wide>
   void find_self(std::uint32_t leaf, WorkerOutput& out) const {
     ensure(leaf);
     const std::uint32_t begin = owners_.edge_begin(leaf), ne = owners_.edge_begin(leaf + 1) - begin;
@@ -178,7 +244,7 @@ class OwnedPairs {
     lane_kernels().self_masks(kSlabs, lanes_.blocks(leaf, bvh_, owners_), with_later, m);
     const std::uint32_t nv = owners_.vertex_begin(leaf + 1) - owners_.vertex_begin(leaf);
     const bool defer = deferring_ && lanes_.still(leaf);
-    vertices_against<true>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
+    vertices_against<true, Wide>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
                            out, defer, 0xF);
     const SweptVolumes<BV>& swept = tests_.swept();
     Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged where a pair needs them
@@ -191,7 +257,7 @@ class OwnedPairs {
       }
       for (; need; need &= need - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(need));
-        swept.edge_quarters_into(begin + j, q[j]);
+        edge_quarters<Wide>(swept, begin + j, q[j]);
       }
     }
     const std::uint32_t* ids = owners_.edges_from(begin);  // held here, as in find()
@@ -213,11 +279,12 @@ class OwnedPairs {
         out.queued.set_end(end);
         continue;
       }
-      const Quarters& qx = q[i];
+      Quarters held;
+      hold<Wide>(q[i], held);
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         ++tested;
-        const unsigned mq = qx.overlap_mask(q[j]);
+        const unsigned mq = overlap<Wide>(held, q[j]);
         *end = Tests::ee_entry(ea, ends[i], ids[j], ends[j], mq, leaf, leaf);
         end += mq != 0;
       }
@@ -231,7 +298,7 @@ class OwnedPairs {
   /// a corner (a face with the vertex as a corner always meets it: told apart among those that
   /// do, and not counted as a test). `defer`: queued with the quarters `within` (holding those
   /// of their volumes), the volumes tested after the filter.
-  template <bool Self>
+  template <bool Self, bool Wide>
   void vertices_against(std::uint32_t p, std::uint32_t q, std::uint64_t alive, const std::uint64_t* met,
                         WorkerOutput& out, bool defer, unsigned within) const {
     const SweptVolumes<BV>& swept = tests_.swept();
@@ -250,8 +317,8 @@ class OwnedPairs {
       for (; need; need &= need - 1) {
         const unsigned k = static_cast<unsigned>(std::countr_zero(need));
         const Triangle& c = owners_.face_corner_slots(face_slot + k);
-        face_quarters[k].merge_of(swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
-        face_quarters[k].merge(swept.vertex_quarters_at(c[2]));
+        merged_into<Wide>(face_quarters[k], swept.vertex_quarters_at(c[0]), swept.vertex_quarters_at(c[1]));
+        merge_into<Wide>(face_quarters[k], swept.vertex_quarters_at(c[2]));
       }
     }
     const Triangle* corners = owners_.face_corners_from(face_slot);  // held here, as in find()
@@ -277,13 +344,14 @@ class OwnedPairs {
         out.queued.set_end(end);
         continue;
       }
-      const Quarters& vq = swept.vertex_quarters_at(s);
+      Quarters held;
+      hold<Wide>(swept.vertex_quarters_at(s), held);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = corners[k];
         if (!Self && has_corner(t, v)) continue;
         ++tested;
-        const unsigned mq = vq.overlap_mask(face_quarters[k]);
+        const unsigned mq = overlap<Wide>(held, face_quarters[k]);
         *end = Tests::vf_entry(v, t, faces[k], mq, p, q);
         end += mq != 0;
       }

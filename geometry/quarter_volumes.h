@@ -19,6 +19,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define MCCD_WIDE_QUARTERS 1
+#include <immintrin.h>
+#endif
 
 #include <mccd/geometry/kdop.h>
 
@@ -171,6 +175,65 @@ struct alignas(32) QuarterDop {
 
 static_assert(sizeof(QuarterDop<9>) == 288, "18-DOP over four quarters: 72 floats");
 static_assert(sizeof(QuarterDop<3>) == 96, "AABB over four quarters: 24 floats");
+
+#if defined(MCCD_WIDE_QUARTERS)
+/// The 18-DOP's quarter volumes in AVX-512 registers: four registers of two slabs each and a
+/// half register for the ninth, lower and upper bounds side by side, so a test or a merge is a
+/// few operations where SSE2 takes 18 of each. For the loops compiled for AVX-512 only (a
+/// function with this attribute, or one that inlines every call, `flatten`), and only where the
+/// processor has it (core/leaf_rule_pairs.h asks lane_kernels()). They give overlap_mask()'s,
+/// merge()'s and merge_of()'s bits: the same comparisons and the same operand order of min and
+/// max (the second operand where one is NaN or both are zeros).
+#define MCCD_WIDE_TARGET __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq")))
+/// Every lane (the masked forms: GCC 12's unmasked ones read an undefined register that it then
+/// warns about when inlined, its bug 105593).
+inline constexpr __mmask16 kAll = 0xFFFF;
+
+/// `a` with each slab's lower and upper bounds exchanged (for wide_overlap_mask()).
+MCCD_WIDE_TARGET inline void wide_swapped(const QuarterDop<9>& a, QuarterDop<9>& out) {
+  const float* x = a.bounds[0][0];
+  float* y = out.bounds[0][0];
+  for (int r = 0; r < 4; ++r) {
+    const __m512 v = _mm512_loadu_ps(x + 16 * r);
+    _mm512_storeu_ps(y + 16 * r, _mm512_maskz_shuffle_f32x4(kAll, v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+  }
+  const __m256 t = _mm256_loadu_ps(x + 64);
+  _mm256_storeu_ps(y + 64, _mm256_shuffle_f32x4(t, t, 1));
+}
+/// a.overlap_mask(b, within), given `swapped` = wide_swapped(a).
+MCCD_WIDE_TARGET inline unsigned wide_overlap_mask(const QuarterDop<9>& swapped, const QuarterDop<9>& b,
+                                                   unsigned within = 0xF) {
+  const float* x = swapped.bounds[0][0];
+  const float* y = b.bounds[0][0];
+  // lanes 0-3 and 8-11 of a register: b's lower bound above a's upper one; lanes 4-7 and
+  // 12-15: a's lower bound above b's upper one (ordered comparisons: false with a NaN)
+  __mmask16 apart = 0;
+  for (int r = 0; r < 4; ++r) {
+    const __m512 u = _mm512_loadu_ps(x + 16 * r), v = _mm512_loadu_ps(y + 16 * r);
+    apart |= _mm512_mask_cmp_ps_mask(0x0F0F, u, v, _CMP_LT_OQ) | _mm512_mask_cmp_ps_mask(0xF0F0, u, v, _CMP_GT_OQ);
+  }
+  const __m256 u = _mm256_loadu_ps(x + 64), v = _mm256_loadu_ps(y + 64);
+  const unsigned last = _mm256_mask_cmp_ps_mask(0x0F, u, v, _CMP_LT_OQ) | _mm256_mask_cmp_ps_mask(0xF0, u, v, _CMP_GT_OQ);
+  unsigned m = apart | last;  // bit 4 k + q: quarter q apart along some slab
+  m |= m >> 8;
+  m |= m >> 4;
+  return ~m & within & 0xFu;
+}
+/// out.merge_of(a, b).
+MCCD_WIDE_TARGET inline void wide_merge_of(QuarterDop<9>& out, const QuarterDop<9>& a, const QuarterDop<9>& b) {
+  const float* x = a.bounds[0][0];
+  const float* y = b.bounds[0][0];
+  float* z = out.bounds[0][0];
+  for (int r = 0; r < 4; ++r) {
+    const __m512 u = _mm512_loadu_ps(x + 16 * r), v = _mm512_loadu_ps(y + 16 * r);
+    _mm512_storeu_ps(z + 16 * r, _mm512_mask_max_ps(_mm512_maskz_min_ps(kAll, v, u), 0xF0F0, v, u));
+  }
+  const __m256 u = _mm256_loadu_ps(x + 64), v = _mm256_loadu_ps(y + 64);
+  _mm256_storeu_ps(z + 64, _mm256_mask_max_ps(_mm256_min_ps(v, u), 0xF0, v, u));
+}
+/// out.merge(o).
+MCCD_WIDE_TARGET inline void wide_merge(QuarterDop<9>& out, const QuarterDop<9>& o) { wide_merge_of(out, out, o); }
+#endif
 
 /// How far a vertex's quarter volumes (SweptVolumes::vertex_volumes and the vector kernels,
 /// LaneKernels::vertex_quarters) lie outside its path. Along each slab, quarter q's lower bound

@@ -54,6 +54,45 @@ QuarterDop<S> random_quarters(std::mt19937& rng) {
 
 }  // namespace
 
+#if defined(MCCD_WIDE_QUARTERS)
+// The AVX-512 forms of the test and the merges (the leaf pairs' loops at that level) give the
+// SSE2 forms' bits, with NaN bounds, zeros of either sign, infinities and unordered bounds.
+TEST(QuarterVolumes, WideTestAndMergesGiveTheSameBits) {
+  if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512bw") ||
+      !__builtin_cpu_supports("avx512vl") || !__builtin_cpu_supports("avx512dq"))
+    GTEST_SKIP() << "this processor has no AVX-512 (F, BW, VL, DQ): the wide forms never run here";
+  std::mt19937 rng(11);
+  const float inf = std::numeric_limits<float>::infinity();
+  const float values[] = {-3, -2, -1, -0.0f, 0.0f, 1, 2, 3, inf, -inf, std::nanf("")};
+  auto any = [&] {
+    QuarterDop<9> q;
+    for (int s = 0; s < 9; ++s)
+      for (int k = 0; k < 4; ++k) {
+        q.lo(s)[k] = values[rng() % 11];
+        q.hi(s)[k] = values[rng() % 11];
+      }
+    return q;
+  };
+  for (int i = 0; i < 20000; ++i) {
+    // mostly ordered bounds (so that some quarters overlap), some not
+    const QuarterDop<9> a = i % 4 ? random_quarters<9>(rng) : any(), b = i % 3 ? random_quarters<9>(rng) : any();
+    const unsigned within = static_cast<unsigned>(rng() % 16);
+    QuarterDop<9> swapped;
+    wide_swapped(a, swapped);
+    ASSERT_EQ(wide_overlap_mask(swapped, b, within), a.overlap_mask(b, within)) << i;
+    QuarterDop<9> narrow, wide;
+    narrow.merge_of(a, b);
+    wide_merge_of(wide, a, b);
+    ASSERT_EQ(std::memcmp(&narrow, &wide, sizeof narrow), 0) << i;
+    narrow = a;
+    narrow.merge(b);
+    wide = a;
+    wide_merge(wide, b);
+    ASSERT_EQ(std::memcmp(&narrow, &wide, sizeof narrow), 0) << i;
+  }
+}
+#endif
+
 TEST(QuarterVolumes, MaskMergeAndWholeEqualThePerQuarterDefinitions) {
   std::mt19937 rng(3);
   for (int i = 0; i < 2000; ++i) {
