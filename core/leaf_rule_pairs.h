@@ -61,9 +61,14 @@ class OwnedPairs {
       ++out.stats.repeated_leaf_pairs;
       return;
     }
-    if constexpr (kWideable)
-      if (wide()) find_wide(a, b, within, out);
-    if (!wide()) find<false>(a, b, within, out);
+    ensure(a);
+    ensure(b);
+    // the AVX-512 copy where the quarter volumes are tested up front (not for leaves that
+    // barely move, whose loops only queue their pairs)
+    if (wide() && !(deferring_ && lanes_.still(a) && lanes_.still(b)))
+      find_wide(a, b, within, out);
+    else
+      find<false>(a, b, within, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -75,9 +80,11 @@ class OwnedPairs {
       ++out.stats.repeated_leaf_pairs;
       return;
     }
-    if constexpr (kWideable)
-      if (wide()) find_self_wide(leaf, out);
-    if (!wide()) find_self<false>(leaf, out);
+    ensure(leaf);
+    if (wide() && !(deferring_ && lanes_.still(leaf)))  // as in process()
+      find_self_wide(leaf, out);
+    else
+      find_self<false>(leaf, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -105,10 +112,10 @@ class OwnedPairs {
   /// and merges in its registers: wide_overlap_mask() and the merges in quarter_volumes.h).
   MCCD_WIDE_TARGET __attribute__((flatten)) void find_wide(std::uint32_t a, std::uint32_t b, unsigned within,
                                                            WorkerOutput& out) const {
-    find<true>(a, b, within, out);
+    if constexpr (kWideable) find<true>(a, b, within, out);
   }
   MCCD_WIDE_TARGET __attribute__((flatten)) void find_self_wide(std::uint32_t leaf, WorkerOutput& out) const {
-    find_self<true>(leaf, out);
+    if constexpr (kWideable) find_self<true>(leaf, out);
   }
 #else
   void find_wide(std::uint32_t, std::uint32_t, unsigned, WorkerOutput&) const {}
