@@ -121,7 +121,8 @@ class OwnedPairs {
   void find_wide(std::uint32_t, std::uint32_t, unsigned, WorkerOutput&) const {}
   void find_self_wide(std::uint32_t, WorkerOutput&) const {}
 #endif
-  /// out.merge_of(a, b), and a.overlap_mask(b, within) given held(a): SSE2 or AVX-512 (Wide).
+  /// The quarter volumes' operations in SSE2 or (Wide) in AVX-512: out.merge_of(a, b),
+  /// out.merge(o), and a.overlap_mask(b) as overlap(held, b) once hold(a, held).
   template <bool Wide>
   static void merged_into(Quarters& out, const Quarters& a, const Quarters& b) {
 #if defined(MCCD_WIDE_QUARTERS)
@@ -251,8 +252,8 @@ class OwnedPairs {
     lane_kernels().self_masks(kSlabs, lanes_.blocks(leaf, bvh_, owners_), with_later, m);
     const std::uint32_t nv = owners_.vertex_begin(leaf + 1) - owners_.vertex_begin(leaf);
     const bool defer = deferring_ && lanes_.still(leaf);
-    vertices_against<true, Wide>(leaf, leaf, nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1, m.vertex_faces,
-                           out, defer, 0xF);
+    const std::uint64_t all = nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1;
+    vertices_against<true, Wide>(leaf, leaf, all, m.vertex_faces, out, defer, 0xF);
     const SweptVolumes<BV>& swept = tests_.swept();
     Quarters q[kMaxOwned];  // the leaf's edges' quarters, merged where a pair needs them
     if (!defer) {

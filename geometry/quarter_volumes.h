@@ -187,7 +187,7 @@ static_assert(sizeof(QuarterDop<3>) == 96, "AABB over four quarters: 24 floats")
 #define MCCD_WIDE_TARGET __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq")))
 /// Every lane (the masked forms: GCC 12's unmasked ones read an undefined register that it then
 /// warns about when inlined, its bug 105593).
-inline constexpr __mmask16 kAll = 0xFFFF;
+inline constexpr __mmask16 kWideLanes = 0xFFFF;
 
 /// `a` with each slab's lower and upper bounds exchanged (for wide_overlap_mask()).
 MCCD_WIDE_TARGET inline void wide_swapped(const QuarterDop<9>& a, QuarterDop<9>& out) {
@@ -195,7 +195,7 @@ MCCD_WIDE_TARGET inline void wide_swapped(const QuarterDop<9>& a, QuarterDop<9>&
   float* y = out.bounds[0][0];
   for (int r = 0; r < 4; ++r) {
     const __m512 v = _mm512_loadu_ps(x + 16 * r);
-    _mm512_storeu_ps(y + 16 * r, _mm512_maskz_shuffle_f32x4(kAll, v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+    _mm512_storeu_ps(y + 16 * r, _mm512_maskz_shuffle_f32x4(kWideLanes, v, v, _MM_SHUFFLE(2, 3, 0, 1)));
   }
   const __m256 t = _mm256_loadu_ps(x + 64);
   _mm256_storeu_ps(y + 64, _mm256_shuffle_f32x4(t, t, 1));
@@ -213,7 +213,8 @@ MCCD_WIDE_TARGET inline unsigned wide_overlap_mask(const QuarterDop<9>& swapped,
     apart |= _mm512_mask_cmp_ps_mask(0x0F0F, u, v, _CMP_LT_OQ) | _mm512_mask_cmp_ps_mask(0xF0F0, u, v, _CMP_GT_OQ);
   }
   const __m256 u = _mm256_loadu_ps(x + 64), v = _mm256_loadu_ps(y + 64);
-  const unsigned last = _mm256_mask_cmp_ps_mask(0x0F, u, v, _CMP_LT_OQ) | _mm256_mask_cmp_ps_mask(0xF0, u, v, _CMP_GT_OQ);
+  const unsigned last =
+      _mm256_mask_cmp_ps_mask(0x0F, u, v, _CMP_LT_OQ) | _mm256_mask_cmp_ps_mask(0xF0, u, v, _CMP_GT_OQ);
   unsigned m = apart | last;  // bit 4 k + q: quarter q apart along some slab
   m |= m >> 8;
   m |= m >> 4;
@@ -226,7 +227,7 @@ MCCD_WIDE_TARGET inline void wide_merge_of(QuarterDop<9>& out, const QuarterDop<
   float* z = out.bounds[0][0];
   for (int r = 0; r < 4; ++r) {
     const __m512 u = _mm512_loadu_ps(x + 16 * r), v = _mm512_loadu_ps(y + 16 * r);
-    _mm512_storeu_ps(z + 16 * r, _mm512_mask_max_ps(_mm512_maskz_min_ps(kAll, v, u), 0xF0F0, v, u));
+    _mm512_storeu_ps(z + 16 * r, _mm512_mask_max_ps(_mm512_maskz_min_ps(kWideLanes, v, u), 0xF0F0, v, u));
   }
   const __m256 u = _mm256_loadu_ps(x + 64), v = _mm256_loadu_ps(y + 64);
   _mm256_storeu_ps(z + 64, _mm256_mask_max_ps(_mm256_min_ps(v, u), 0xF0, v, u));
