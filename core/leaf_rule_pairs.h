@@ -164,12 +164,10 @@ class OwnedPairs {
     lanes_.ensure(node, bvh_, owners_, nodes_[node], unchanged_ && unchanged_->repeats(node));
   }
 
-  /// process() past its skips.
+  /// process() past its skips, the leaves' lanes filled.
   template <bool Wide>
   void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
-    ensure(a);
-    ensure(b);
     // The coarse tests of the two leaves at once (LaneKernels::pair_masks), then the float
     // quarter volumes of the pairs they do not separate.
     PairMasks m;
@@ -239,11 +237,10 @@ class OwnedPairs {
     out.stats.feature_box_tests += tested;
   }
 
-  /// process_self() past its skips. Only the pairs that are not adjacent (fixed per leaf:
-  /// LeafOwnership's apart masks) are tested.
+  /// process_self() past its skips, the leaf's lanes filled. Only the pairs that are not
+  /// adjacent (fixed per leaf: LeafOwnership's apart masks) are tested.
   template <bool Wide>
   void find_self(std::uint32_t leaf, WorkerOutput& out) const {
-    ensure(leaf);
     const std::uint32_t begin = owners_.edge_begin(leaf), ne = owners_.edge_begin(leaf + 1) - begin;
     // each edge against the later ones it shares no end with
     std::uint64_t with_later = 0;
