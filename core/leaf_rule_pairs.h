@@ -65,10 +65,11 @@ class OwnedPairs {
     ensure(b);
     // the AVX-512 copy where the quarter volumes are tested up front (not for leaves that
     // barely move, whose loops only queue their pairs)
-    if (wide() && !(deferring_ && lanes_.still(a) && lanes_.still(b)))
+    const bool defer = deferring_ && lanes_.still(a) && lanes_.still(b);
+    if (wide() && !defer)
       find_wide(a, b, within, out);
     else
-      find<false>(a, b, within, out);
+      find<false>(a, b, within, defer, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -81,10 +82,11 @@ class OwnedPairs {
       return;
     }
     ensure(leaf);
-    if (wide() && !(deferring_ && lanes_.still(leaf)))  // as in process()
+    const bool defer = deferring_ && lanes_.still(leaf);
+    if (wide() && !defer)  // as in process()
       find_self_wide(leaf, out);
     else
-      find_self<false>(leaf, out);
+      find_self<false>(leaf, defer, out);
     if (out.queued.size() >= Tests::kQueue) finish(out);
   }
 
@@ -112,17 +114,17 @@ class OwnedPairs {
   /// and merges in its registers: wide_overlap_mask() and the merges in quarter_volumes.h).
   MCCD_WIDE_TARGET __attribute__((flatten)) void find_wide(std::uint32_t a, std::uint32_t b, unsigned within,
                                                            WorkerOutput& out) const {
-    if constexpr (kWideable) find<true>(a, b, within, out);
+    if constexpr (kWideable) find<true>(a, b, within, false, out);
   }
   MCCD_WIDE_TARGET __attribute__((flatten)) void find_self_wide(std::uint32_t leaf, WorkerOutput& out) const {
-    if constexpr (kWideable) find_self<true>(leaf, out);
+    if constexpr (kWideable) find_self<true>(leaf, false, out);
   }
 #else
   void find_wide(std::uint32_t, std::uint32_t, unsigned, WorkerOutput&) const {}
   void find_self_wide(std::uint32_t, WorkerOutput&) const {}
 #endif
   /// The quarter volumes' operations in SSE2 or (Wide) in AVX-512: out.merge_of(a, b),
-  /// out.merge(o), and a.overlap_mask(b) as overlap(held, b) once hold(a, held).
+  /// out.merge(o), and a.overlap_mask(b) as overlap(hold(a, room), b).
   template <bool Wide>
   static void merged_into(Quarters& out, const Quarters& a, const Quarters& b) {
 #if defined(MCCD_WIDE_QUARTERS)
@@ -137,13 +139,17 @@ class OwnedPairs {
 #endif
     out.merge(o);
   }
-  /// What overlap() takes for `a`: a itself, or with Wide its bounds swapped (wide_swapped()).
+  /// What overlap() takes for `a`: a itself, or with Wide its bounds swapped (wide_swapped())
+  /// into `room`.
   template <bool Wide>
-  static void hold(const Quarters& a, Quarters& held) {
+  static const Quarters& hold(const Quarters& a, Quarters& room) {
 #if defined(MCCD_WIDE_QUARTERS)
-    if constexpr (Wide) return wide_swapped(a, held);
+    if constexpr (Wide) {
+      wide_swapped(a, room);
+      return room;
+    }
 #endif
-    held = a;
+    return a;
   }
   template <bool Wide>
   static unsigned overlap(const Quarters& held, const Quarters& b) {
@@ -164,15 +170,14 @@ class OwnedPairs {
     lanes_.ensure(node, bvh_, owners_, nodes_[node], unchanged_ && unchanged_->repeats(node));
   }
 
-  /// process() past its skips, the leaves' lanes filled.
+  /// process() past its skips, the leaves' lanes filled; `defer`: both leaves barely move.
   template <bool Wide>
-  void find(std::uint32_t a, std::uint32_t b, unsigned within, WorkerOutput& out) const {
+  void find(std::uint32_t a, std::uint32_t b, unsigned within, bool defer, WorkerOutput& out) const {
     ++out.stats.leaf_pairs;
     // The coarse tests of the two leaves at once (LaneKernels::pair_masks), then the float
     // quarter volumes of the pairs they do not separate.
     PairMasks m;
     lane_kernels().pair_masks(kSlabs, lanes_.blocks(a, bvh_, owners_), lanes_.blocks(b, bvh_, owners_), m);
-    const bool defer = deferring_ && lanes_.still(a) && lanes_.still(b);
     vertices_against<false, Wide>(a, b, m.alive_va, m.vertex_faces_ab, out, defer, within);
     vertices_against<false, Wide>(b, a, m.alive_vb, m.vertex_faces_ba, out, defer, within);
     if (!m.alive_ea || !m.alive_eb) return;
@@ -222,9 +227,9 @@ class OwnedPairs {
           if (shares_end(x, ends_at_b[j])) meet &= ~(std::uint64_t(1) << j);
         }
       if (!meet) continue;
-      Quarters qx, held;
+      Quarters qx, room;
       edge_quarters<Wide>(swept, sa, qx);
-      hold<Wide>(qx, held);
+      const Quarters& held = hold<Wide>(qx, room);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         ++tested;
@@ -238,9 +243,10 @@ class OwnedPairs {
   }
 
   /// process_self() past its skips, the leaf's lanes filled. Only the pairs that are not
-  /// adjacent (fixed per leaf: LeafOwnership's apart masks) are tested.
+  /// adjacent (fixed per leaf: LeafOwnership's apart masks) are tested; `defer`: the leaf
+  /// barely moves.
   template <bool Wide>
-  void find_self(std::uint32_t leaf, WorkerOutput& out) const {
+  void find_self(std::uint32_t leaf, bool defer, WorkerOutput& out) const {
     const std::uint32_t begin = owners_.edge_begin(leaf), ne = owners_.edge_begin(leaf + 1) - begin;
     // each edge against the later ones it shares no end with
     std::uint64_t with_later = 0;
@@ -248,7 +254,6 @@ class OwnedPairs {
     SelfMasks m;
     lane_kernels().self_masks(kSlabs, lanes_.blocks(leaf, bvh_, owners_), with_later, m);
     const std::uint32_t nv = owners_.vertex_begin(leaf + 1) - owners_.vertex_begin(leaf);
-    const bool defer = deferring_ && lanes_.still(leaf);
     const std::uint64_t all = nv >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << nv) - 1;
     vertices_against<true, Wide>(leaf, leaf, all, m.vertex_faces, out, defer, 0xF);
     const SweptVolumes<BV>& swept = tests_.swept();
@@ -284,8 +289,8 @@ class OwnedPairs {
         out.queued.set_end(end);
         continue;
       }
-      Quarters held;
-      hold<Wide>(q[i], held);
+      Quarters room;
+      const Quarters& held = hold<Wide>(q[i], room);
       for (; meet; meet &= meet - 1) {
         const unsigned j = static_cast<unsigned>(std::countr_zero(meet));
         ++tested;
@@ -349,8 +354,8 @@ class OwnedPairs {
         out.queued.set_end(end);
         continue;
       }
-      Quarters held;
-      hold<Wide>(swept.vertex_quarters_at(s), held);
+      Quarters room;
+      const Quarters& held = hold<Wide>(swept.vertex_quarters_at(s), room);
       for (; meet; meet &= meet - 1) {  // kept where the quarters meet: no branch on that
         const unsigned k = static_cast<unsigned>(std::countr_zero(meet));
         const Triangle& t = corners[k];
